@@ -1,0 +1,1 @@
+//! Variable table, scenes and the generated model description (filled in by the description layer).

@@ -1,0 +1,1 @@
+//! FMI 2.0 layer (state machine and extern "C" functions).

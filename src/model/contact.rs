@@ -1,0 +1,756 @@
+//! One contact, generic over its vector type (`f64` longitudinal, `Planar`), its friction law
+//! and its drive. Each combination compiles to its own code: a longitudinal contact has no
+//! second component, a velocity drive integrates no body, Dahl evaluates no Stribeck curve.
+//!
+//! The integrated state is `[s (DIM) | body (D::N_BODY)]`. Positions that follow from the
+//! inputs alone (the body's `x` under velocity drive, the spring's far end `x_d`) are exact
+//! integrals of the input tracks, not integrator states.
+
+use nalgebra::SVector;
+
+use super::simulator::{SimError, Simulator, StepStats};
+use super::{Config, InputId, Inputs, Outputs};
+use crate::physics::{FrictionLaw, Harmonic, InputTrack, ParamId, Params, Vector};
+use crate::solver::{OdeSystem, Radau5, Step, B, C, MAX_SWITCH};
+
+/// Forces and motions the drive needs at one instant.
+#[derive(Clone, Copy, Debug)]
+pub struct DriveInputs {
+    /// `F_d(t)` (force drive).
+    pub f_d: f64,
+    /// `v_d(t)` (velocity and spring drives).
+    pub v_d: f64,
+    /// Far-end position of the spring, or the imposed position of the body (velocity drive).
+    pub x_kin: f64,
+}
+
+/// How the body moves: its states, its velocity, and their rates.
+pub trait DriveKind<V: Vector>: Copy + Send + Sync + std::fmt::Debug + 'static {
+    /// Number of integrated body states.
+    const N_BODY: usize;
+    fn new(p: &Params) -> Self;
+    /// Body velocity.
+    fn velocity(&self, body: &[f64], d: &DriveInputs) -> V;
+    /// Body position.
+    fn position(&self, body: &[f64], d: &DriveInputs) -> V;
+    /// Driving force along x acting on the body.
+    fn drive_force(&self, body: &[f64], d: &DriveInputs) -> f64;
+    /// Rates of the body states under the friction force `f_f` (the support pushes with `−f_f`).
+    fn body_rate(&self, body: &[f64], f_f: V, d: &DriveInputs, out: &mut [f64]);
+    /// Natural magnitudes of the body states (positions, then velocities).
+    fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]);
+}
+
+/// Velocity drive with the body guided in y (longitudinal contacts and `lateral = "guided"`):
+/// no body state at all.
+#[derive(Clone, Copy, Debug)]
+pub struct VelocityGuided;
+
+impl<V: Vector> DriveKind<V> for VelocityGuided {
+    const N_BODY: usize = 0;
+    fn new(_: &Params) -> Self {
+        VelocityGuided
+    }
+    #[inline(always)]
+    fn velocity(&self, _: &[f64], d: &DriveInputs) -> V {
+        V::from_xy(d.v_d, 0.0)
+    }
+    fn position(&self, _: &[f64], d: &DriveInputs) -> V {
+        V::from_xy(d.x_kin, 0.0)
+    }
+    fn drive_force(&self, _: &[f64], _: &DriveInputs) -> f64 {
+        f64::NAN // the caller reports F_Fx: the force that imposes v_d
+    }
+    #[inline(always)]
+    fn body_rate(&self, _: &[f64], _: V, _: &DriveInputs, _: &mut [f64]) {}
+    fn scale(&self, _: f64, _: f64, _: &mut [f64]) {}
+}
+
+/// Velocity drive in x with free lateral motion `m·dv_y/dt = −F_Fy` (planar only): body `[y, v_y]`.
+#[derive(Clone, Copy, Debug)]
+pub struct VelocityFree {
+    inv_m: f64,
+}
+
+impl<V: Vector> DriveKind<V> for VelocityFree {
+    const N_BODY: usize = 2;
+    fn new(p: &Params) -> Self {
+        VelocityFree { inv_m: 1.0 / p.m }
+    }
+    #[inline(always)]
+    fn velocity(&self, body: &[f64], d: &DriveInputs) -> V {
+        V::from_xy(d.v_d, body[1])
+    }
+    fn position(&self, body: &[f64], d: &DriveInputs) -> V {
+        V::from_xy(d.x_kin, body[0])
+    }
+    fn drive_force(&self, _: &[f64], _: &DriveInputs) -> f64 {
+        f64::NAN
+    }
+    #[inline(always)]
+    fn body_rate(&self, body: &[f64], f_f: V, _: &DriveInputs, out: &mut [f64]) {
+        out[0] = body[1];
+        out[1] = -f_f.y() * self.inv_m;
+    }
+    fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]) {
+        out[0] = x_nom;
+        out[1] = v_nom;
+    }
+}
+
+/// Force drive `m·dv/dt = F_d·e_x − F_F`: body `[position (DIM), velocity (DIM)]`.
+#[derive(Clone, Copy, Debug)]
+pub struct Force {
+    inv_m: f64,
+}
+
+impl<V: Vector> DriveKind<V> for Force {
+    const N_BODY: usize = 2 * V::DIM;
+    fn new(p: &Params) -> Self {
+        Force { inv_m: 1.0 / p.m }
+    }
+    #[inline(always)]
+    fn velocity(&self, body: &[f64], _: &DriveInputs) -> V {
+        V::read(&body[V::DIM..])
+    }
+    fn position(&self, body: &[f64], _: &DriveInputs) -> V {
+        V::read(body)
+    }
+    #[inline(always)]
+    fn drive_force(&self, _: &[f64], d: &DriveInputs) -> f64 {
+        d.f_d
+    }
+    #[inline(always)]
+    fn body_rate(&self, body: &[f64], f_f: V, d: &DriveInputs, out: &mut [f64]) {
+        body[V::DIM..].iter().zip(out.iter_mut()).for_each(|(v, o)| *o = *v);
+        let acc = (V::from_xy(d.f_d, 0.0) - f_f) * self.inv_m;
+        acc.write(&mut out[V::DIM..]);
+    }
+    fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]) {
+        out[..V::DIM].fill(x_nom);
+        out[V::DIM..].fill(v_nom);
+    }
+}
+
+/// Spring drive: `F_d = k_d·(x_d − x) + c_d·(v_d − v_x)`, `dx_d/dt = v_d`; body as [`Force`].
+#[derive(Clone, Copy, Debug)]
+pub struct Spring {
+    inv_m: f64,
+    k_d: f64,
+    c_d: f64,
+}
+
+impl<V: Vector> DriveKind<V> for Spring {
+    const N_BODY: usize = 2 * V::DIM;
+    fn new(p: &Params) -> Self {
+        Spring {
+            inv_m: 1.0 / p.m,
+            k_d: p.k_d,
+            c_d: p.c_d,
+        }
+    }
+    #[inline(always)]
+    fn velocity(&self, body: &[f64], _: &DriveInputs) -> V {
+        V::read(&body[V::DIM..])
+    }
+    fn position(&self, body: &[f64], _: &DriveInputs) -> V {
+        V::read(body)
+    }
+    #[inline(always)]
+    fn drive_force(&self, body: &[f64], d: &DriveInputs) -> f64 {
+        self.k_d * (d.x_kin - body[0]) + self.c_d * (d.v_d - body[V::DIM])
+    }
+    #[inline(always)]
+    fn body_rate(&self, body: &[f64], f_f: V, d: &DriveInputs, out: &mut [f64]) {
+        body[V::DIM..].iter().zip(out.iter_mut()).for_each(|(v, o)| *o = *v);
+        let f_d = <Self as DriveKind<V>>::drive_force(self, body, d);
+        let acc = (V::from_xy(f_d, 0.0) - f_f) * self.inv_m;
+        acc.write(&mut out[V::DIM..]);
+    }
+    fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]) {
+        out[..V::DIM].fill(x_nom);
+        out[V::DIM..].fill(v_nom);
+    }
+}
+
+/// The right-hand side: everything the integrator needs, nothing it changes.
+#[derive(Clone, Copy, Debug)]
+pub struct Dynamics<V: Vector, L: FrictionLaw, D: DriveKind<V>> {
+    law: L,
+    drive: D,
+    harmonic: Option<Harmonic>,
+    /// Input tracks, indexed like [`InputId::ALL`].
+    tracks: [InputTrack; 4],
+    /// `x_kin` at the reference time of the `v_d` track.
+    x_kin_ref: f64,
+    f_c: f64,
+    _v: std::marker::PhantomData<V>,
+}
+
+/// Kinematic and force quantities at one state.
+#[derive(Clone, Copy, Debug)]
+struct Eval<V> {
+    s: V,
+    v: V,
+    vr: V,
+    ds: V,
+    f: V,
+    drive: DriveInputs,
+}
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
+    #[inline(always)]
+    fn drive_inputs(&self, t: f64) -> DriveInputs {
+        let vd = &self.tracks[1];
+        DriveInputs {
+            f_d: self.tracks[0].at(t),
+            v_d: vd.at(t),
+            x_kin: self.x_kin_ref + vd.integral(t),
+        }
+    }
+
+    /// Support velocity: the harmonic source plus the input tracks, as enabled.
+    #[inline(always)]
+    fn support_velocity(&self, t: f64, input_support: bool) -> V {
+        let mut vs = V::default();
+        if let Some(h) = &self.harmonic {
+            let (x, y) = h.velocity(t);
+            vs = V::from_xy(x, y);
+        }
+        if input_support {
+            vs = vs + V::from_xy(self.tracks[2].at(t), self.tracks[3].at(t));
+        }
+        vs
+    }
+
+    #[inline(always)]
+    fn eval(&self, t: f64, y: &[f64], input_support: bool) -> Eval<V> {
+        let s = V::read(y);
+        let body = &y[V::DIM..];
+        let drive = self.drive_inputs(t);
+        let v = self.drive.velocity(body, &drive);
+        let vr = v - self.support_velocity(t, input_support);
+        let ds = self.law.rate(s, vr);
+        let f = self.law.force(s, vr, ds);
+        Eval {
+            s,
+            v,
+            vr,
+            ds,
+            f,
+            drive,
+        }
+    }
+}
+
+/// The system the integrator sees: dynamics plus the run-time support flag.
+struct System<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> {
+    dynamics: &'a Dynamics<V, L, D>,
+    input_support: bool,
+    scale: &'a [f64],
+}
+
+impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
+    for System<'_, V, L, D>
+{
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &SVector<f64, N>) -> SVector<f64, N> {
+        let y = y.as_slice();
+        let e = self.dynamics.eval(t, y, self.input_support);
+        let mut out = SVector::<f64, N>::zeros();
+        let o = out.as_mut_slice();
+        e.ds.write(o);
+        if D::N_BODY > 0 {
+            self.dynamics
+                .drive
+                .body_rate(&y[V::DIM..], e.f, &e.drive, &mut o[V::DIM..]);
+        }
+        out
+    }
+
+    fn scale(&self) -> SVector<f64, N> {
+        SVector::<f64, N>::from_column_slice(self.scale)
+    }
+
+    fn n_switch(&self) -> usize {
+        if V::DIM == 2 && L::PLANAR_SWITCH {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// `v_rx` (the kink of `|v_r|` in 1-D, and wherever `v_r` passes through zero along x),
+    /// and in planar Dupont the direction test `s·v_r`.
+    #[inline(always)]
+    fn switch(&self, t: f64, y: &SVector<f64, N>) -> [f64; MAX_SWITCH] {
+        let y = y.as_slice();
+        let d = self.dynamics;
+        let drive = d.drive_inputs(t);
+        let v = d.drive.velocity(&y[V::DIM..], &drive);
+        let vr = v - d.support_velocity(t, self.input_support);
+        [vr.x(), V::read(y).dot(vr)]
+    }
+
+    fn project(&self, y: &mut SVector<f64, N>) {
+        if let Some(bound) = self.dynamics.law.bound() {
+            let s = V::read(y.as_slice());
+            let n = s.norm();
+            if n > bound {
+                let s = if bound > 0.0 { s * (bound / n) } else { V::default() };
+                s.write(y.as_mut_slice());
+            }
+        }
+    }
+}
+
+/// Running mean of `F_Fx` over averaging windows of fixed length aligned on `origin`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Window {
+    origin: f64,
+    len: f64,
+    /// Index of the window in progress.
+    index: u64,
+    /// ∫F_Fx dt since the start of the window in progress.
+    acc: f64,
+    /// Mean over the last completed window.
+    last: Option<f64>,
+}
+
+impl Window {
+    fn start(&self) -> f64 {
+        self.origin + self.index as f64 * self.len
+    }
+    fn end(&self) -> f64 {
+        self.origin + (self.index + 1) as f64 * self.len
+    }
+}
+
+/// A contact with its integrator: implements [`Simulator`].
+#[derive(Clone, Debug)]
+pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
+    config: Config,
+    params: Params,
+    dynamics: Dynamics<V, L, D>,
+    /// Natural magnitudes of the state components.
+    scale: [f64; N],
+    radau: Radau5<N>,
+    window: Window,
+}
+
+/// Builds the contact with state dimension `N` (checked against the types).
+pub fn boxed<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
+    config: Config,
+    params: Params,
+    t_start: f64,
+    tolerance: f64,
+) -> Box<dyn Simulator> {
+    assert_eq!(N, V::DIM + D::N_BODY, "state dimension of {config:?}");
+    Box::new(Contact::<V, L, D, N>::new(config, params, t_start, tolerance))
+}
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
+    fn new(config: Config, params: Params, t_start: f64, tolerance: f64) -> Self {
+        let dynamics = Dynamics {
+            law: L::new(&params),
+            drive: D::new(&params),
+            harmonic: config
+                .harmonic
+                .then(|| Harmonic::new(params.u0, params.f, params.angle, params.phase, t_start)),
+            tracks: [InputTrack {
+                t_ref: t_start,
+                value: 0.0,
+                slope: 0.0,
+            }; 4],
+            x_kin_ref: 0.0,
+            f_c: params.f_c(),
+            _v: std::marker::PhantomData,
+        };
+        let mut c = Contact {
+            config,
+            params,
+            dynamics,
+            scale: [0.0; N],
+            radau: Radau5::new(t_start, SVector::zeros(), tolerance),
+            window: Window {
+                origin: t_start,
+                len: 0.0,
+                index: 0,
+                acc: 0.0,
+                last: None,
+            },
+        };
+        c.window.len = c.window_length();
+        c.update_scale();
+        c
+    }
+
+    fn window_length(&self) -> f64 {
+        match &self.dynamics.harmonic {
+            Some(h) if h.f > 0.0 => 1.0 / h.f,
+            _ => self.params.t_avg,
+        }
+    }
+
+    fn update_scale(&mut self) {
+        let p = &self.params;
+        let s_nom = self.dynamics.law.s_scale();
+        let v_a = self.dynamics.harmonic.map_or(0.0, |h| h.v_a());
+        let x_nom = s_nom.max(p.u0 * self.config.harmonic as u8 as f64);
+        let v_nom = v_a.max(s_nom * (p.k_t / p.m).sqrt()).max(1e-9);
+        self.scale[..V::DIM].fill(s_nom);
+        self.dynamics
+            .drive
+            .scale(x_nom, v_nom, &mut self.scale[V::DIM..]);
+    }
+
+    fn system(&self) -> System<'_, V, L, D> {
+        System {
+            dynamics: &self.dynamics,
+            input_support: self.config.input_support,
+            scale: &self.scale,
+        }
+    }
+
+    /// Longest step that cannot hide a pair of sign changes of `v_r` from the harmonic source.
+    fn h_max(&self) -> f64 {
+        match &self.dynamics.harmonic {
+            Some(h) if h.f > 0.0 && h.u0 > 0.0 => 0.25 / h.f,
+            _ => f64::INFINITY,
+        }
+    }
+
+    fn eval_now(&self) -> Eval<V> {
+        self.dynamics.eval(
+            self.radau.t,
+            self.radau.y.as_slice(),
+            self.config.input_support,
+        )
+    }
+
+    fn track_index(&self, id: InputId) -> Result<usize, SimError> {
+        if !id.present(&self.config) {
+            return Err(SimError::NoSuchInput(id.name()));
+        }
+        Ok(InputId::ALL.iter().position(|&i| i == id).unwrap_or(0))
+    }
+
+    /// Integrates to `t_target` (≤ the current window's end), accumulating `∫F_Fx dt`.
+    fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
+        let dynamics = self.dynamics;
+        let input_support = self.config.input_support;
+        let sys = System {
+            dynamics: &dynamics,
+            input_support,
+            scale: &self.scale,
+        };
+        let mut acc = 0.0;
+        self.radau
+            .integrate(&sys, t_target, h_max, |step: &Step<N>| {
+                let mut q = 0.0;
+                for i in 0..3 {
+                    let e = dynamics.eval(step.t + C[i] * step.h, step.stages[i].as_slice(), input_support);
+                    q += B[i] * e.f.x();
+                }
+                acc += step.h * q;
+            })
+            .map_err(SimError::Solver)?;
+        self.window.acc += acc;
+        Ok(())
+    }
+
+    fn f_mean(&self) -> f64 {
+        if let Some(m) = self.window.last {
+            return m;
+        }
+        let elapsed = self.radau.t - self.window.start();
+        if elapsed > 0.0 {
+            self.window.acc / elapsed
+        } else {
+            self.eval_now().f.x()
+        }
+    }
+
+    /// Number of numbers in a snapshot.
+    const SNAPSHOT_LEN: usize = 1 + 18 + 12 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN;
+
+    fn config_code(&self) -> f64 {
+        let c = &self.config;
+        (c.law as u8 as f64)
+            + 4.0 * (c.motion as u8 as f64)
+            + 8.0 * (c.drive as u8 as f64)
+            + 32.0 * (c.lateral as u8 as f64)
+            + 64.0 * (c.harmonic as u8 as f64)
+            + 128.0 * (c.input_support as u8 as f64)
+    }
+}
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator
+    for Contact<V, L, D, N>
+{
+    fn config(&self) -> Config {
+        self.config
+    }
+
+    fn params(&self) -> &Params {
+        &self.params
+    }
+
+    fn set_param(&mut self, id: ParamId, value: f64) -> Result<(), SimError> {
+        if !id.tunable() {
+            return Err(SimError::NotTunable(id.name()));
+        }
+        let mut params = self.params;
+        id.set(&mut params, value)?;
+        if params == self.params {
+            return Ok(());
+        }
+        let t = self.radau.t;
+        self.params = params;
+        self.dynamics.law = L::new(&params);
+        self.dynamics.drive = D::new(&params);
+        self.dynamics.f_c = params.f_c();
+        if let Some(h) = &mut self.dynamics.harmonic {
+            h.rebase(t);
+            if id == ParamId::Phase {
+                h.theta_ref = value.rem_euclid(std::f64::consts::TAU);
+            }
+            h.u0 = params.u0;
+            h.f = params.f;
+            h.dir = (params.angle.cos(), params.angle.sin());
+        }
+        // A new source or load starts a new averaging window.
+        self.window = Window {
+            origin: t,
+            len: 0.0,
+            index: 0,
+            acc: 0.0,
+            last: None,
+        };
+        self.window.len = self.window_length();
+        self.update_scale();
+        let mut y = self.radau.y;
+        OdeSystem::<N>::project(&self.system(), &mut y);
+        self.radau.set_state(y);
+        Ok(())
+    }
+
+    fn time(&self) -> f64 {
+        self.radau.t
+    }
+
+    fn tolerance(&self) -> f64 {
+        self.radau.tolerance()
+    }
+
+    fn set_input(&mut self, id: InputId, value: f64) -> Result<(), SimError> {
+        let k = self.track_index(id)?;
+        if !value.is_finite() {
+            return Err(SimError::Input {
+                name: id.name(),
+                value,
+            });
+        }
+        let t = self.radau.t;
+        let track = &mut self.dynamics.tracks[k];
+        if track.value.to_bits() == value.to_bits() && track.t_ref == t {
+            return Ok(());
+        }
+        if id == InputId::VD {
+            self.dynamics.x_kin_ref += track.integral(t);
+        }
+        track.t_ref = t;
+        track.value = value;
+        self.radau.restart();
+        Ok(())
+    }
+
+    fn set_input_derivative(&mut self, id: InputId, value: f64) -> Result<(), SimError> {
+        let k = self.track_index(id)?;
+        if !value.is_finite() {
+            return Err(SimError::Input {
+                name: id.name(),
+                value,
+            });
+        }
+        let t = self.radau.t;
+        let track = &mut self.dynamics.tracks[k];
+        if id == InputId::VD {
+            self.dynamics.x_kin_ref += track.integral(t);
+        }
+        track.value = track.at(t);
+        track.t_ref = t;
+        track.slope = value;
+        self.radau.restart();
+        Ok(())
+    }
+
+    fn inputs(&self) -> Inputs {
+        let mut i = Inputs::default();
+        for (k, id) in InputId::ALL.iter().enumerate() {
+            *id.slot(&mut i) = self.dynamics.tracks[k].value;
+        }
+        i
+    }
+
+    fn step_to(&mut self, t_end: f64) -> Result<(), SimError> {
+        let t0 = self.radau.t;
+        if !(t_end.is_finite() && t_end > t0) {
+            return Err(SimError::Time {
+                now: t0,
+                target: t_end,
+            });
+        }
+        let saved = (self.radau, self.window);
+        let h_max = self.h_max();
+        let result = (|| {
+            while self.radau.t < t_end {
+                let mut t_b = self.window.end();
+                if (t_b - t_end).abs() <= 4.0 * f64::EPSILON * t_end.abs() {
+                    t_b = t_end;
+                }
+                let target = t_b.min(t_end);
+                self.integrate(target, h_max)?;
+                if target == t_b {
+                    self.window.last = Some(self.window.acc / self.window.len);
+                    self.window.acc = 0.0;
+                    self.window.index += 1;
+                }
+            }
+            Ok(())
+        })();
+        if let Err(e) = result {
+            // Leave the simulator as it was before the call.
+            (self.radau, self.window) = saved;
+            return Err(e);
+        }
+        // Input derivatives are valid for one step: hold the inputs from here on.
+        let t = self.radau.t;
+        for (k, track) in self.dynamics.tracks.iter_mut().enumerate() {
+            if track.slope != 0.0 {
+                if k == 1 {
+                    self.dynamics.x_kin_ref += track.integral(t);
+                    track.t_ref = t;
+                }
+                track.slope = 0.0;
+                self.radau.restart();
+            }
+        }
+        // Keep x_kin anchored near the current time for precision.
+        let vd = &mut self.dynamics.tracks[1];
+        self.dynamics.x_kin_ref += vd.integral(t);
+        vd.t_ref = t;
+        Ok(())
+    }
+
+    fn outputs(&self) -> Outputs {
+        let e = self.eval_now();
+        let body = &self.radau.y.as_slice()[V::DIM..];
+        let pos = self.dynamics.drive.position(body, &e.drive);
+        let f_mean = self.f_mean();
+        let f_c = self.dynamics.f_c;
+        let f_d = match self.config.drive {
+            super::Drive::Velocity => e.f.x(),
+            _ => self.dynamics.drive.drive_force(body, &e.drive),
+        };
+        Outputs {
+            f_fx: e.f.x(),
+            f_fy: e.f.y(),
+            x: pos.x(),
+            y: pos.y(),
+            v_x: e.v.x(),
+            v_y: e.v.y(),
+            s_x: e.s.x(),
+            s_y: e.s.y(),
+            f_mean,
+            reduction: if f_c > 0.0 { f_mean / f_c } else { 1.0 },
+            p_diss: self.dynamics.law.dissipation(e.s, e.vr, e.ds),
+            f_d,
+        }
+    }
+
+    fn stats(&self) -> StepStats {
+        let s = self.radau.stats;
+        StepStats {
+            steps: s.steps,
+            rejected: s.rejected,
+            rhs_evals: s.rhs_evals,
+            jacobians: s.jacobians,
+            events: s.events,
+        }
+    }
+
+    fn snapshot(&self) -> Vec<f64> {
+        let mut out = Vec::with_capacity(Self::SNAPSHOT_LEN);
+        out.push(self.config_code());
+        out.extend(ParamId::ALL.iter().map(|id| id.get(&self.params)));
+        for t in &self.dynamics.tracks {
+            out.extend_from_slice(&[t.t_ref, t.value, t.slope]);
+        }
+        out.push(self.dynamics.x_kin_ref);
+        let h = self.dynamics.harmonic.unwrap_or(Harmonic::new(0.0, 0.0, 0.0, 0.0, 0.0));
+        out.extend_from_slice(&[h.t_ref, h.theta_ref]);
+        let w = &self.window;
+        out.extend_from_slice(&[
+            w.origin,
+            w.len,
+            w.index as f64,
+            w.acc,
+            w.last.unwrap_or(0.0),
+            w.last.is_some() as u8 as f64,
+        ]);
+        self.radau.save(&mut out);
+        debug_assert_eq!(out.len(), Self::SNAPSHOT_LEN);
+        out
+    }
+
+    fn restore(&mut self, state: &[f64]) -> Result<(), SimError> {
+        if state.len() != Self::SNAPSHOT_LEN {
+            return Err(SimError::BadSnapshot("wrong length"));
+        }
+        if state[0] != self.config_code() {
+            return Err(SimError::BadSnapshot("taken from another scene"));
+        }
+        let mut params = Params::default();
+        for (k, id) in ParamId::ALL.iter().enumerate() {
+            id.set(&mut params, state[1 + k])
+                .map_err(|_| SimError::BadSnapshot("parameter out of range"))?;
+        }
+        let mut rest = &state[19..];
+        let mut tracks = [InputTrack::default(); 4];
+        for t in tracks.iter_mut() {
+            *t = InputTrack {
+                t_ref: rest[0],
+                value: rest[1],
+                slope: rest[2],
+            };
+            rest = &rest[3..];
+        }
+        let x_kin_ref = rest[0];
+        let (h_t_ref, h_theta_ref) = (rest[1], rest[2]);
+        let w = &rest[3..9];
+        let radau = Radau5::<N>::load(&rest[9..]).ok_or(SimError::BadSnapshot("integrator state"))?;
+        let mut c = Contact::<V, L, D, N>::new(self.config, params, radau.t, radau.tolerance());
+        c.dynamics.tracks = tracks;
+        c.dynamics.x_kin_ref = x_kin_ref;
+        if let Some(h) = &mut c.dynamics.harmonic {
+            h.t_ref = h_t_ref;
+            h.theta_ref = h_theta_ref;
+        }
+        c.window = Window {
+            origin: w[0],
+            len: w[1],
+            index: w[2] as u64,
+            acc: w[3],
+            last: (w[5] != 0.0).then_some(w[4]),
+        };
+        c.radau = radau;
+        c.update_scale();
+        *self = c;
+        Ok(())
+    }
+
+    fn clone_box(&self) -> Box<dyn Simulator> {
+        Box::new(self.clone())
+    }
+}

@@ -1,0 +1,16 @@
+//! The contact as a simulator: configuration, inputs, outputs, and the object the FMU steps.
+//!
+//! Everything here is plain Rust with no knowledge of FMI. [`build`] turns a [`Config`] into a
+//! [`Simulator`] whose arithmetic is specialised at compile time for the law, the motion and the
+//! drive (see `contact.rs`); the support sources are chosen at run time, where they cost one
+//! branch.
+
+mod config;
+mod contact;
+mod ids;
+mod simulator;
+
+pub use config::{Config, Drive, Lateral, Law, Motion};
+pub use ids::{param_present, InputId, Inputs, OutputId, Outputs};
+pub use simulator::{build, SimError, Simulator, StepStats};
+

@@ -1,0 +1,149 @@
+//! The object-safe face of a contact: what the FMU layer and the tests step.
+
+use super::contact::{boxed, Force, Spring, VelocityFree, VelocityGuided};
+use super::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, Outputs};
+use crate::physics::{Dahl, Dupont, LuGre, ParamError, ParamId, Params, Planar};
+use crate::solver::SolverError;
+
+/// Why a simulator refused a call. The simulator is unchanged when an error is returned.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SimError {
+    /// A parameter out of its physical range.
+    Param(ParamError),
+    /// A parameter that cannot change after initialisation.
+    NotTunable(&'static str),
+    /// A NaN or infinite input or derivative.
+    Input { name: &'static str, value: f64 },
+    /// An input the configuration does not have.
+    NoSuchInput(&'static str),
+    /// A target time that is not after the current time, or not finite.
+    Time { now: f64, target: f64 },
+    /// A tolerance that is not finite and > 0.
+    Tolerance(f64),
+    /// The integrator could not reach the target (step size underflow, Newton failure).
+    Solver(SolverError),
+    /// A saved state that does not belong to this configuration.
+    BadSnapshot(&'static str),
+}
+
+impl std::fmt::Display for SimError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SimError::Param(e) => write!(f, "{e}"),
+            SimError::NotTunable(n) => write!(
+                f,
+                "{n}: has variability fixed and cannot change after initialization"
+            ),
+            SimError::Input { name, value } => write!(f, "{name} = {value}: must be finite"),
+            SimError::NoSuchInput(n) => write!(f, "{n}: this scene has no such input"),
+            SimError::Time { now, target } => write!(
+                f,
+                "step target time {target} must be finite and later than the current time {now}"
+            ),
+            SimError::Tolerance(t) => write!(f, "tolerance = {t}: must be finite and > 0"),
+            SimError::Solver(e) => write!(f, "{e}"),
+            SimError::BadSnapshot(why) => write!(f, "state does not fit this instance: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for SimError {}
+
+impl From<ParamError> for SimError {
+    fn from(e: ParamError) -> Self {
+        SimError::Param(e)
+    }
+}
+
+/// Work done by the integrator, cumulative since the simulator was built.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepStats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected steps (error test or Newton failure).
+    pub rejected: u64,
+    /// Right-hand-side evaluations (Jacobian columns included).
+    pub rhs_evals: u64,
+    /// Jacobian evaluations.
+    pub jacobians: u64,
+    /// Located switching events (sign changes of the relative velocity, ...).
+    pub events: u64,
+}
+
+/// A contact that can be stepped in time. Every method that returns an error leaves the
+/// simulator exactly as it was.
+pub trait Simulator: Send {
+    fn config(&self) -> Config;
+    fn params(&self) -> &Params;
+    /// Changes a parameter during the simulation. Only the parameters for which
+    /// [`ParamId::tunable`] is true may change; the source stays continuous in phase.
+    fn set_param(&mut self, id: ParamId, value: f64) -> Result<(), SimError>;
+    /// Current time.
+    fn time(&self) -> f64;
+    /// Relative tolerance of the integrator.
+    fn tolerance(&self) -> f64;
+    /// Sets an input; the value holds from the current time on (plus its derivative, if set).
+    fn set_input(&mut self, id: InputId, value: f64) -> Result<(), SimError>;
+    /// Sets the first time derivative of an input, used for linear extrapolation over the next
+    /// [`Simulator::step_to`] only.
+    fn set_input_derivative(&mut self, id: InputId, value: f64) -> Result<(), SimError>;
+    /// Inputs at the current time.
+    fn inputs(&self) -> Inputs;
+    /// Integrates exactly to `t_end`.
+    fn step_to(&mut self, t_end: f64) -> Result<(), SimError>;
+    /// Outputs at the current time.
+    fn outputs(&self) -> Outputs;
+    /// Integrator work since the simulator was built.
+    fn stats(&self) -> StepStats;
+    /// The complete state as numbers; [`Simulator::restore`] on a simulator built with the same
+    /// configuration continues bit-for-bit.
+    fn snapshot(&self) -> Vec<f64>;
+    fn restore(&mut self, state: &[f64]) -> Result<(), SimError>;
+    /// A copy of this simulator.
+    fn clone_box(&self) -> Box<dyn Simulator>;
+}
+
+/// Builds the simulator for a configuration, with the body at rest at the origin, zero
+/// deformation, zero inputs, starting at `t_start` with relative tolerance `tolerance`.
+pub fn build(
+    config: Config,
+    params: Params,
+    t_start: f64,
+    tolerance: f64,
+) -> Result<Box<dyn Simulator>, SimError> {
+    params.validate()?;
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(SimError::Tolerance(tolerance));
+    }
+    if !t_start.is_finite() {
+        return Err(SimError::Time {
+            now: t_start,
+            target: t_start,
+        });
+    }
+    let c = config;
+    // One arm per (motion, drive) gives the state dimension N at compile time; the law is a
+    // type parameter, so every combination is a separately optimised code path.
+    macro_rules! with_law {
+        ($v:ty, $d:ty, $n:literal) => {
+            match c.law {
+                Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance),
+                Law::Dupont => {
+                    boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance)
+                }
+                Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance),
+            }
+        };
+    }
+    Ok(match (c.motion, c.drive, c.lateral) {
+        (Motion::Longitudinal, Drive::Velocity, _) => with_law!(f64, VelocityGuided, 1),
+        (Motion::Longitudinal, Drive::Force, _) => with_law!(f64, Force, 3),
+        (Motion::Longitudinal, Drive::Spring, _) => with_law!(f64, Spring, 3),
+        (Motion::Planar, Drive::Velocity, Lateral::Guided) => {
+            with_law!(Planar, VelocityGuided, 2)
+        }
+        (Motion::Planar, Drive::Velocity, Lateral::Free) => with_law!(Planar, VelocityFree, 4),
+        (Motion::Planar, Drive::Force, _) => with_law!(Planar, Force, 6),
+        (Motion::Planar, Drive::Spring, _) => with_law!(Planar, Spring, 6),
+    })
+}

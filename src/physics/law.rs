@@ -1,0 +1,278 @@
+//! The friction laws of SPEC §2: Dahl, Dupont (elasto-plastic) and LuGre, each written once for
+//! a longitudinal (`f64`) and a planar ([`Planar`](super::Planar)) contact.
+//!
+//! A law maps the deformation `s` and the relative velocity `v_r` to the deformation rate
+//! `ds/dt`, and the three together to the friction force `F_F` (which resists the relative
+//! motion) and the dissipated power `P_diss`.
+
+use super::{Params, Vector};
+
+/// Smallest deformation scale used to normalise errors when the law has no friction at all.
+const S_FLOOR: f64 = 1e-30;
+
+/// One friction law with its constants precomputed from [`Params`].
+pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
+    /// Whether the law has a discontinuity off `v_r = 0` in planar motion that the integrator
+    /// must locate (Dupont's direction test `s·v_r = 0`).
+    const PLANAR_SWITCH: bool;
+
+    fn new(p: &Params) -> Self;
+    /// `ds/dt`.
+    fn rate<V: Vector>(&self, s: V, vr: V) -> V;
+    /// The friction force `F_F`, given `ds/dt`.
+    fn force<V: Vector>(&self, s: V, vr: V, ds: V) -> V;
+    /// Power dissipated in the contact: `F_F·v_r` less the rate of change of `k_t·|s|²/2`.
+    fn dissipation<V: Vector>(&self, s: V, vr: V, ds: V) -> f64;
+    /// The bound `|s| ≤ s_ss` that the law keeps invariant, if it has one.
+    fn bound(&self) -> Option<f64>;
+    /// Natural magnitude of `s`, for error norms.
+    fn s_scale(&self) -> f64;
+}
+
+/// Dahl (SPEC §2, Eqs. 1, 3 with gamma = 1).
+#[derive(Clone, Copy, Debug)]
+pub struct Dahl {
+    k_t: f64,
+    s_ss: f64,
+    inv_s_ss: f64,
+    kappa: f64,
+}
+
+impl FrictionLaw for Dahl {
+    const PLANAR_SWITCH: bool = false;
+
+    fn new(p: &Params) -> Self {
+        let s_ss = p.f_c() / p.k_t;
+        Dahl {
+            k_t: p.k_t,
+            s_ss,
+            inv_s_ss: if s_ss > 0.0 { 1.0 / s_ss } else { 0.0 },
+            kappa: p.kappa,
+        }
+    }
+
+    #[inline(always)]
+    fn rate<V: Vector>(&self, s: V, vr: V) -> V {
+        if self.inv_s_ss == 0.0 {
+            return V::default(); // no friction: s stays at 0
+        }
+        if self.kappa == 1.0 {
+            vr - s * (vr.norm() * self.inv_s_ss)
+        } else {
+            // Longitudinal only (SPEC §2): ds/dt = v_r·|w|^kappa·sgn(w), w = 1 − sgn(v_r)·s/s_ss.
+            let (s, v) = (s.x(), vr.x());
+            let w = 1.0 - v.signum() * s * self.inv_s_ss;
+            V::from_xy(v * w.abs().powf(self.kappa) * w.signum(), 0.0)
+        }
+    }
+
+    #[inline(always)]
+    fn force<V: Vector>(&self, s: V, _vr: V, _ds: V) -> V {
+        s * self.k_t
+    }
+
+    #[inline(always)]
+    fn dissipation<V: Vector>(&self, s: V, vr: V, ds: V) -> f64 {
+        if self.kappa == 1.0 {
+            // k_t·|v_r|·|s|²/s_ss: non-negative by construction
+            self.k_t * vr.norm() * s.dot(s) * self.inv_s_ss
+        } else {
+            // k_t·s·(v_r − ds/dt): both factors change sign together while |s| ≤ s_ss
+            self.k_t * s.dot(vr - ds)
+        }
+    }
+
+    fn bound(&self) -> Option<f64> {
+        Some(self.s_ss)
+    }
+
+    fn s_scale(&self) -> f64 {
+        self.s_ss.max(S_FLOOR)
+    }
+}
+
+/// Dupont elasto-plastic (SPEC §2; Dupont, Hayward, Armstrong, Altpeter, IEEE TAC 2002).
+#[derive(Clone, Copy, Debug)]
+pub struct Dupont {
+    k_t: f64,
+    s_ss: f64,
+    s_ba: f64,
+    inv_s_ss: f64,
+}
+
+impl Dupont {
+    /// The elasto-plastic weight alpha(s, v_r) in [0, 1].
+    #[inline(always)]
+    pub fn alpha<V: Vector>(&self, s: V, vr: V) -> f64 {
+        if s.dot(vr) <= 0.0 {
+            return 0.0; // s and v_r point apart: purely elastic
+        }
+        let z = s.norm();
+        if z <= self.s_ba {
+            0.0
+        } else if z >= self.s_ss {
+            1.0
+        } else {
+            let mid = 0.5 * (self.s_ss + self.s_ba);
+            0.5 * (std::f64::consts::PI * (z - mid) / (self.s_ss - self.s_ba)).sin() + 0.5
+        }
+    }
+}
+
+impl FrictionLaw for Dupont {
+    const PLANAR_SWITCH: bool = true;
+
+    fn new(p: &Params) -> Self {
+        let s_ss = p.f_c() / p.k_t;
+        Dupont {
+            k_t: p.k_t,
+            s_ss,
+            s_ba: p.r_ba * s_ss,
+            inv_s_ss: if s_ss > 0.0 { 1.0 / s_ss } else { 0.0 },
+        }
+    }
+
+    #[inline(always)]
+    fn rate<V: Vector>(&self, s: V, vr: V) -> V {
+        if self.inv_s_ss == 0.0 {
+            return V::default();
+        }
+        vr - s * (self.alpha(s, vr) * vr.norm() * self.inv_s_ss)
+    }
+
+    #[inline(always)]
+    fn force<V: Vector>(&self, s: V, _vr: V, _ds: V) -> V {
+        s * self.k_t
+    }
+
+    #[inline(always)]
+    fn dissipation<V: Vector>(&self, s: V, vr: V, _ds: V) -> f64 {
+        self.k_t * self.alpha(s, vr) * vr.norm() * s.dot(s) * self.inv_s_ss
+    }
+
+    fn bound(&self) -> Option<f64> {
+        Some(self.s_ss)
+    }
+
+    fn s_scale(&self) -> f64 {
+        self.s_ss.max(S_FLOOR)
+    }
+}
+
+/// LuGre (SPEC §2, Eqs. 2, 4–7).
+#[derive(Clone, Copy, Debug)]
+pub struct LuGre {
+    k_t: f64,
+    f_c: f64,
+    f_s: f64,
+    inv_v_s2: f64,
+    h_t0: f64,
+    inv_v_e2: f64,
+    h_v: f64,
+}
+
+impl LuGre {
+    /// `g(v_r)` of Eq. 5, floored so that a law without friction stays finite.
+    #[inline(always)]
+    fn g(&self, vr2: f64) -> f64 {
+        ((self.f_c + (self.f_s - self.f_c) * (-vr2 * self.inv_v_s2).exp()) / self.k_t).max(1e-290)
+    }
+}
+
+impl FrictionLaw for LuGre {
+    const PLANAR_SWITCH: bool = false;
+
+    fn new(p: &Params) -> Self {
+        LuGre {
+            k_t: p.k_t,
+            f_c: p.f_c(),
+            f_s: p.f_s,
+            inv_v_s2: 1.0 / (p.v_s * p.v_s),
+            h_t0: 2.0 * p.zeta_t * (p.m * p.k_t).sqrt(),
+            inv_v_e2: 1.0 / (p.v_e * p.v_e),
+            h_v: p.h_v,
+        }
+    }
+
+    #[inline(always)]
+    fn rate<V: Vector>(&self, s: V, vr: V) -> V {
+        if self.f_c == 0.0 && self.f_s == 0.0 {
+            return V::default();
+        }
+        let vr2 = vr.dot(vr);
+        vr - s * (vr2.sqrt() / self.g(vr2))
+    }
+
+    #[inline(always)]
+    fn force<V: Vector>(&self, s: V, vr: V, ds: V) -> V {
+        let h_t = self.h_t0 * (-vr.dot(vr) * self.inv_v_e2).exp();
+        s * self.k_t + ds * h_t + vr * self.h_v
+    }
+
+    #[inline(always)]
+    fn dissipation<V: Vector>(&self, s: V, vr: V, ds: V) -> f64 {
+        self.force(s, vr, ds).dot(vr) - self.k_t * s.dot(ds)
+    }
+
+    fn bound(&self) -> Option<f64> {
+        None
+    }
+
+    fn s_scale(&self) -> f64 {
+        (self.f_c.max(self.f_s) / self.k_t).max(S_FLOOR)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::Planar;
+
+    #[test]
+    fn dahl_kappa_one_matches_general_formula() {
+        let p = Params::default();
+        let d = Dahl::new(&p);
+        let mut p3 = p;
+        p3.kappa = 1.0 + 1e-15; // forces the general branch
+        let d3 = Dahl::new(&p3);
+        for &(s, v) in &[(3e-8, 1e-3), (-5e-8, 2e-3), (1e-7, -1e-4), (0.0, 1e-3)] {
+            let a = d.rate(s, v);
+            let b = d3.rate(s, v);
+            assert!((a - b).abs() <= 1e-12 * v.abs(), "{a} {b}");
+        }
+    }
+
+    #[test]
+    fn dupont_uses_magnitude_and_direction_test() {
+        let p = Params::default();
+        let d = Dupont::new(&p);
+        let s_ss = p.f_c() / p.k_t;
+        // negative s moving in the negative direction slides exactly like positive s forwards
+        let s = -0.9 * s_ss;
+        assert!((d.alpha(s, -1e-3) - d.alpha(-s, 1e-3)).abs() < 1e-15);
+        assert!(d.alpha(s, -1e-3) > 0.5);
+        // pointing apart: purely elastic
+        assert_eq!(d.alpha(s, 1e-3), 0.0);
+        // the transition is 1/2 at the midpoint between s_ba and s_ss
+        let mid = 0.5 * (s_ss + 0.5 * s_ss);
+        assert!((d.alpha(mid, 1.0) - 0.5).abs() < 1e-12);
+        // planar: same magnitudes in any direction
+        let sp = Planar { x: 0.0, y: 0.9 * s_ss };
+        let vp = Planar { x: 0.0, y: 1e-3 };
+        assert!((d.alpha(sp, vp) - d.alpha(0.9 * s_ss, 1e-3)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn lugre_steady_state_is_stribeck_curve() {
+        let p = Params::default();
+        let l = LuGre::new(&p);
+        for &v in &[1e-4, 1e-3, 1e-2] {
+            let g = l.g(v * v);
+            let s = g; // ds/dt = 0 at s = g·sgn(v)
+            assert!(l.rate(s, v).abs() < 1e-18);
+            let f = l.force(s, v, 0.0);
+            let stribeck = p.f_c() + (p.f_s - p.f_c()) * (-(v / p.v_s).powi(2)).exp();
+            assert!((f - stribeck).abs() < 1e-12 * stribeck);
+        }
+    }
+}

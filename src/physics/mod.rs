@@ -1,0 +1,12 @@
+//! Physics of the contact, with no knowledge of FMI or of the integrator: parameters, in-plane
+//! vectors, friction laws and support motion.
+
+mod law;
+mod params;
+mod support;
+mod vector;
+
+pub use law::{Dahl, Dupont, FrictionLaw, LuGre};
+pub use params::{ParamError, ParamId, Params, Rule};
+pub use support::{Harmonic, InputTrack};
+pub use vector::{Planar, Vector};

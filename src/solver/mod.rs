@@ -1,0 +1,8 @@
+//! The integrator: an L-stable, stiffly accurate Radau IIA method of order 5 with error control,
+//! dense output, located switching events and exact landing on requested times. It knows
+//! nothing of friction or of FMI: it integrates any [`OdeSystem`].
+
+mod lu;
+mod radau;
+
+pub use radau::{OdeSystem, Radau5, SolverError, SolverStats, Step, B, C, MAX_SWITCH};

@@ -1,0 +1,806 @@
+//! Radau IIA, 3 stages, order 5 (Hairer & Wanner, *Solving ODEs II*, §IV.8, code RADAU5), on
+//! fixed-size `nalgebra` vectors: no heap allocation per step, deterministic.
+//!
+//! Beyond RADAU5 it
+//! - lands exactly on the requested end time (every call is a communication point or a window
+//!   boundary);
+//! - locates sign changes of the system's switching function (a kink or jump of the right-hand
+//!   side, such as `|v_r|` at `v_r = 0`) on the collocation polynomial, and ends a step on each,
+//!   restarting after it instead of stepping blindly over the kink;
+//! - hands every accepted step's stage values to the caller, so that quadratures (the mean
+//!   friction force) are integrated with the collocation's order;
+//! - projects each accepted state onto the system's invariant set.
+
+use nalgebra::{Complex, SMatrix, SVector};
+
+use super::lu::Lu;
+
+/// An ODE `dy/dt = f(t, y)` of fixed dimension `N`.
+pub trait OdeSystem<const N: usize> {
+    fn rhs(&self, t: f64, y: &SVector<f64, N>) -> SVector<f64, N>;
+    /// Natural magnitude of each component: the absolute tolerance is `rtol·scale`.
+    fn scale(&self) -> SVector<f64, N>;
+    /// Number of switching functions in use (0 to [`MAX_SWITCH`]).
+    fn n_switch(&self) -> usize {
+        0
+    }
+    /// Functions whose sign changes mark kinks or jumps of `rhs`; only the first
+    /// [`OdeSystem::n_switch`] entries are read.
+    fn switch(&self, _t: f64, _y: &SVector<f64, N>) -> [f64; MAX_SWITCH] {
+        [1.0; MAX_SWITCH]
+    }
+    /// Projects a state onto the invariant set of the exact flow (no-op by default).
+    fn project(&self, _y: &mut SVector<f64, N>) {}
+}
+
+/// Most switching functions a system may have.
+pub const MAX_SWITCH: usize = 2;
+
+/// Why the integrator stopped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolverError {
+    /// The step size fell below the resolution of the time axis.
+    StepSizeTooSmall { t: f64, h: f64 },
+    /// The right-hand side returned NaN or infinity at every step size tried.
+    NonFinite { t: f64 },
+}
+
+impl std::fmt::Display for SolverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SolverError::StepSizeTooSmall { t, h } => {
+                write!(f, "integrator step size {h:e} too small at t = {t}")
+            }
+            SolverError::NonFinite { t } => {
+                write!(f, "right-hand side not finite at t = {t}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for SolverError {}
+
+/// Work counters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SolverStats {
+    pub steps: u64,
+    pub rejected: u64,
+    pub rhs_evals: u64,
+    pub jacobians: u64,
+    pub events: u64,
+}
+
+/// One accepted step, as handed to the caller: stage `i` lies at `t + C[i]·h`, and the
+/// collocation quadrature of a function `g` over the step is `h·Σ B[i]·g(stage i)`.
+pub struct Step<'a, const N: usize> {
+    pub t: f64,
+    pub h: f64,
+    pub stages: &'a [SVector<f64, N>; 3],
+}
+
+const SQ6: f64 = 2.449_489_742_783_178;
+/// Collocation nodes.
+pub const C: [f64; 3] = [(4.0 - SQ6) / 10.0, (4.0 + SQ6) / 10.0, 1.0];
+/// Quadrature weights (= last row of the Butcher matrix: the method is stiffly accurate).
+pub const B: [f64; 3] = [(16.0 - SQ6) / 36.0, (16.0 + SQ6) / 36.0, 1.0 / 9.0];
+
+const C1M1: f64 = C[0] - 1.0;
+const C2M1: f64 = C[1] - 1.0;
+const C1MC2: f64 = C[0] - C[1];
+const DD1: f64 = -(13.0 + 7.0 * SQ6) / 3.0;
+const DD2: f64 = (-13.0 + 7.0 * SQ6) / 3.0;
+const DD3: f64 = -1.0 / 3.0;
+// Eigenvalues of the inverse Butcher matrix: one real (U1), one complex pair (ALPH ± i BETA).
+const U1: f64 = 3.637_834_252_744_496; // 30/(6 + 81^(1/3) − 9^(1/3))
+const ALPH: f64 = 2.681_082_873_627_752;
+const BETA: f64 = 3.050_430_199_247_411;
+// The transformation T and its inverse that block-diagonalise the Butcher matrix.
+const T: [[f64; 3]; 3] = [
+    [
+        9.123_239_487_089_294e-2,
+        -0.141_255_295_020_954_2,
+        -3.002_919_410_514_742_4e-2,
+    ],
+    [
+        0.241_717_932_707_107,
+        0.204_129_352_293_799_9,
+        0.382_942_112_757_261_9,
+    ],
+    [0.966_048_182_615_093, 1.0, 0.0],
+];
+const TI: [[f64; 3]; 3] = [
+    [
+        4.325_579_890_063_155,
+        0.339_199_251_815_809_9,
+        0.541_770_539_935_874_9,
+    ],
+    [
+        -4.178_718_591_551_905,
+        -0.327_682_820_761_062_4,
+        0.476_623_554_500_550_5,
+    ],
+    [
+        -0.502_872_634_945_786_9,
+        2.571_926_949_855_605,
+        -0.596_039_204_828_224_9,
+    ],
+];
+
+const NIT: u32 = 7;
+const SAFE: f64 = 0.9;
+const THET: f64 = 0.001;
+const FAC_MAX_GROW: f64 = 8.0;
+const FAC_MAX_SHRINK: f64 = 0.2;
+
+/// The integrator's complete state. `Copy`, so that a snapshot is a plain copy.
+#[derive(Clone, Copy, Debug)]
+pub struct Radau5<const N: usize> {
+    pub t: f64,
+    pub y: SVector<f64, N>,
+    /// Relative tolerance requested by the user.
+    tol: f64,
+    /// RADAU5's internal tolerance `0.1·tol^(2/3)`, calibrated so that the global error is of
+    /// the order of `tol`.
+    rtol: f64,
+    fnewt: f64,
+    /// Proposed next step size (0: not yet chosen).
+    h: f64,
+    h_old: f64,
+    h_acc: f64,
+    err_acc: f64,
+    faccon: f64,
+    theta: f64,
+    first: bool,
+    /// Dense-output coefficients of the last accepted step (valid when `has_cont`).
+    cont: [SVector<f64, N>; 3],
+    has_cont: bool,
+    jac: SMatrix<f64, N, N>,
+    jac_fresh: bool,
+    /// Size of the first accepted step after the previous event: a good start after the next.
+    h_event: f64,
+    /// Sign of each switching function on the current side of the last event (0: unknown).
+    switch_sign: [f64; MAX_SWITCH],
+    n_accept: u64,
+    pub stats: SolverStats,
+}
+
+impl<const N: usize> Radau5<N> {
+    pub fn new(t: f64, y: SVector<f64, N>, tol: f64) -> Self {
+        let rtol = 0.1 * tol.powf(2.0 / 3.0);
+        Radau5 {
+            t,
+            y,
+            tol,
+            rtol,
+            fnewt: (10.0 * f64::EPSILON / rtol).max(rtol.sqrt().min(0.03)),
+            h: 0.0,
+            h_old: 0.0,
+            h_acc: 0.0,
+            err_acc: 1e-2,
+            faccon: 1.0,
+            theta: THET,
+            first: true,
+            cont: [SVector::zeros(); 3],
+            has_cont: false,
+            jac: SMatrix::zeros(),
+            jac_fresh: false,
+            h_event: 0.0,
+            switch_sign: [0.0; MAX_SWITCH],
+            n_accept: 0,
+            stats: SolverStats::default(),
+        }
+    }
+
+    pub fn tolerance(&self) -> f64 {
+        self.tol
+    }
+
+    /// Tells the integrator that the right-hand side may have jumped at the current time (an
+    /// input changed): the next step restarts without extrapolating the previous one.
+    pub fn restart(&mut self) {
+        self.first = true;
+        self.jac_fresh = false;
+        self.switch_sign = [0.0; MAX_SWITCH];
+    }
+
+    /// Replaces the state at the current time (after a projection or a parameter change).
+    pub fn set_state(&mut self, y: SVector<f64, N>) {
+        self.y = y;
+        self.restart();
+    }
+
+    fn scal(&self, y: &SVector<f64, N>, nominal: &SVector<f64, N>) -> SVector<f64, N> {
+        SVector::from_fn(|i, _| self.rtol * (nominal[i] + y[i].abs()))
+    }
+
+    fn jacobian<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        f0: &SVector<f64, N>,
+        nominal: &SVector<f64, N>,
+    ) {
+        let mut y = self.y;
+        for j in 0..N {
+            let yj = y[j];
+            let delta = f64::EPSILON.sqrt() * yj.abs().max(nominal[j]);
+            y[j] = yj + delta;
+            let f1 = sys.rhs(self.t, &y);
+            y[j] = yj;
+            let col = (f1 - f0) / delta;
+            self.jac.set_column(j, &col);
+        }
+        self.stats.rhs_evals += N as u64;
+        self.stats.jacobians += 1;
+        self.jac_fresh = true;
+    }
+
+    /// Evaluates the dense output of the last attempted step at `t + theta·h`.
+    fn dense(y_new: &SVector<f64, N>, cont: &[SVector<f64, N>; 3], theta: f64) -> SVector<f64, N> {
+        let s = theta - 1.0;
+        y_new + (cont[0] + (cont[1] + cont[2] * (s - C1M1)) * (s - C2M1)) * s
+    }
+
+    /// Integrates exactly to `t_end` (> current time), calling `on_step` for every accepted step.
+    /// `h_max` bounds the step size (so that no switching event can hide inside one step).
+    pub fn integrate<S: OdeSystem<N>>(
+        &mut self,
+        sys: &S,
+        t_end: f64,
+        h_max: f64,
+        mut on_step: impl FnMut(&Step<N>),
+    ) -> Result<(), SolverError> {
+        let nominal = sys.scale();
+        let n_switch = sys.n_switch().min(MAX_SWITCH);
+        let has_switch = n_switch > 0;
+        if has_switch {
+            let g = sys.switch(self.t, &self.y);
+            for k in 0..n_switch {
+                if self.switch_sign[k] == 0.0 || g[k] != 0.0 {
+                    // Zero counts as the positive side until the function leaves it.
+                    self.switch_sign[k] = if g[k] < 0.0 { -1.0 } else { 1.0 };
+                }
+            }
+        }
+        let mut f0 = sys.rhs(self.t, &self.y);
+        self.stats.rhs_evals += 1;
+        if !f0.iter().all(|v| v.is_finite()) {
+            return Err(SolverError::NonFinite { t: self.t });
+        }
+        if self.h <= 0.0 {
+            self.h = self.initial_step(&f0, &nominal, t_end - self.t);
+        }
+        let mut reject = false;
+        // An event the current attempt must end on (time, function), found on a previous
+        // attempt's dense output.
+        let mut event_target: Option<(f64, usize)> = None;
+
+        while self.t < t_end {
+            if !self.jac_fresh {
+                self.jacobian(sys, &f0, &nominal);
+            }
+            // Choose the step, landing exactly on an event or on t_end.
+            let mut h = self.h.min(h_max);
+            let mut h_unclipped = h;
+            let mut target = None;
+            if let Some((te, _)) = event_target {
+                h = te - self.t;
+                h_unclipped = self.h;
+                target = Some(te);
+            } else if self.t + 1.0001 * h >= t_end {
+                h = t_end - self.t;
+                target = Some(t_end);
+            }
+            if h <= 10.0 * self.t.abs().max(1e-300) * f64::EPSILON && target.is_none() {
+                return Err(SolverError::StepSizeTooSmall { t: self.t, h });
+            }
+            let t_new = target.unwrap_or(self.t + h);
+            let h = t_new - self.t;
+
+            let scal = self.scal(&self.y, &nominal);
+            let fac1 = U1 / h;
+            let alphn = ALPH / h;
+            let betan = BETA / h;
+            let e1 = SMatrix::<f64, N, N>::identity() * fac1 - self.jac;
+            let e2 = SMatrix::<Complex<f64>, N, N>::from_fn(|i, j| {
+                let d = if i == j { Complex::new(alphn, betan) } else { Complex::new(0.0, 0.0) };
+                d - Complex::new(self.jac[(i, j)], 0.0)
+            });
+            let lu1 = Lu::new(e1);
+            let lu2 = Lu::new(e2);
+
+            // Starting values for the Newton iteration.
+            let mut z = [SVector::<f64, N>::zeros(); 3];
+            if !self.first && self.has_cont {
+                let c3q = h / self.h_old;
+                for (i, zi) in z.iter_mut().enumerate() {
+                    let cq = C[i] * c3q;
+                    *zi = (self.cont[0] + (self.cont[1] + self.cont[2] * (cq - C1M1)) * (cq - C2M1))
+                        * cq;
+                }
+            }
+            let mut w = transform(&TI, &z);
+
+            // Simplified Newton iteration.
+            self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
+            self.theta = THET;
+            let mut dyno_old = 0.0;
+            let mut thq_old = 0.0;
+            let mut newt = 0;
+            let converged = loop {
+                if newt >= NIT {
+                    break false;
+                }
+                let mut fz = [SVector::<f64, N>::zeros(); 3];
+                for i in 0..3 {
+                    fz[i] = sys.rhs(self.t + C[i] * h, &(self.y + z[i]));
+                }
+                self.stats.rhs_evals += 3;
+                if !fz.iter().all(|f| f.iter().all(|v| v.is_finite())) {
+                    break false;
+                }
+                let mut r = transform(&TI, &fz);
+                r[0] -= w[0] * fac1;
+                let (r1, r2) = (r[1], r[2]);
+                r[1] = r1 - w[1] * alphn + w[2] * betan;
+                r[2] = r2 - w[2] * alphn - w[1] * betan;
+                let ok1 = lu1.solve_mut(&mut r[0]);
+                let mut rc = SVector::<Complex<f64>, N>::from_fn(|i, _| Complex::new(r[1][i], r[2][i]));
+                let ok2 = lu2.solve_mut(&mut rc);
+                if !(ok1 && ok2) {
+                    break false;
+                }
+                for i in 0..N {
+                    r[1][i] = rc[i].re;
+                    r[2][i] = rc[i].im;
+                }
+                newt += 1;
+                let dyno = ((0..3)
+                    .map(|k| r[k].component_div(&scal).norm_squared())
+                    .sum::<f64>()
+                    / (3 * N) as f64)
+                    .sqrt();
+                if newt > 1 && newt < NIT {
+                    let thq = dyno / dyno_old;
+                    self.theta = if newt == 2 { thq } else { (thq * thq_old).sqrt() };
+                    thq_old = thq;
+                    if self.theta < 0.99 {
+                        self.faccon = self.theta / (1.0 - self.theta);
+                        let dyth = self.faccon * dyno * self.theta.powi((NIT - 1 - newt) as i32)
+                            / self.fnewt;
+                        if dyth >= 1.0 {
+                            // Convergence too slow for this step: shrink it.
+                            let qnewt = dyth.clamp(1e-4, 20.0);
+                            let fac = 0.8 * qnewt.powf(-1.0 / (4.0 + (NIT - 1 - newt) as f64));
+                            self.h = h * fac;
+                            break false;
+                        }
+                    } else {
+                        break false;
+                    }
+                }
+                dyno_old = dyno.max(f64::EPSILON);
+                for k in 0..3 {
+                    w[k] += r[k];
+                }
+                z = transform(&T, &w);
+                if self.faccon * dyno <= self.fnewt {
+                    break true;
+                }
+            };
+            if !converged {
+                if self.h >= h {
+                    self.h = 0.5 * h;
+                }
+                self.stats.rejected += 1;
+                reject = true;
+                event_target = None;
+                if !self.jac_fresh {
+                    continue;
+                }
+                if self.h < 10.0 * self.t.abs().max(1e-300) * f64::EPSILON {
+                    return Err(SolverError::NonFinite { t: self.t });
+                }
+                continue;
+            }
+
+            // Error estimate.
+            let hee = [DD1 / h, DD2 / h, DD3 / h];
+            let f2 = z[0] * hee[0] + z[1] * hee[1] + z[2] * hee[2];
+            let mut est = f0 + f2;
+            lu1.solve_mut(&mut est);
+            let mut err = rms(&est, &scal).max(1e-10);
+            if err >= 1.0 && (self.first || reject) {
+                let fy = sys.rhs(self.t, &(self.y + est));
+                self.stats.rhs_evals += 1;
+                let mut est2 = fy + f2;
+                lu1.solve_mut(&mut est2);
+                err = rms(&est2, &scal).max(1e-10);
+            }
+            if !err.is_finite() {
+                err = 1e10;
+            }
+            let fac = SAFE.min(SAFE * (1.0 + 2.0 * NIT as f64) / (newt as f64 + 2.0 * NIT as f64));
+            let mut quot = (err.powf(0.25) / fac).clamp(1.0 / FAC_MAX_GROW, 1.0 / FAC_MAX_SHRINK);
+            let mut h_new = h / quot;
+
+            if err >= 1.0 {
+                self.stats.rejected += 1;
+                reject = true;
+                event_target = None;
+                self.h = if self.first { 0.1 * h } else { h_new };
+                continue;
+            }
+
+            // The step passes the error test; compute its dense output.
+            let y_new = self.y + z[2];
+            let cont0 = (z[1] - z[2]) / C2M1;
+            let ak = (z[0] - z[1]) / C1MC2;
+            let acont3 = (ak - z[0] / C[0]) / C[1];
+            let cont1 = (ak - cont0) / C1M1;
+            let cont = [cont0, cont1, cont1 - acont3];
+
+            // Switching events.
+            let mut event_here = None;
+            if has_switch {
+                if let Some((_, k)) = event_target {
+                    event_here = Some(k);
+                } else if let Some((theta_e, k)) =
+                    self.find_event(sys, n_switch, h, &z, &y_new, &cont)
+                {
+                    if theta_e < 1.0 - 1e-12 {
+                        let te = self.t + theta_e * h;
+                        if te > self.t {
+                            event_target = Some((te, k));
+                            self.h = h;
+                            continue;
+                        }
+                        // The crossing is at the current time: flip and restart.
+                        self.switch_sign[k] = -self.switch_sign[k];
+                        self.stats.events += 1;
+                        self.first = true;
+                        self.jac_fresh = false;
+                        continue;
+                    }
+                    event_here = Some(k);
+                }
+            }
+
+            // Accept.
+            if self.n_accept > 0 && !self.first {
+                let facgus = (self.h_acc / h) * (err * err / self.err_acc).powf(0.25) / SAFE;
+                let facgus = facgus.clamp(1.0 / FAC_MAX_GROW, 1.0 / FAC_MAX_SHRINK);
+                quot = quot.max(facgus);
+                h_new = h / quot;
+            }
+            self.h_acc = h;
+            self.err_acc = err.max(1e-2);
+            self.n_accept += 1;
+            self.stats.steps += 1;
+            let stages = [self.y + z[0], self.y + z[1], y_new];
+            on_step(&Step {
+                t: self.t,
+                h,
+                stages: &stages,
+            });
+            let mut y_acc = y_new;
+            sys.project(&mut y_acc);
+            self.y = y_acc;
+            self.t = t_new;
+            self.cont = cont;
+            self.has_cont = true;
+            self.h_old = h;
+            if reject {
+                h_new = h_new.min(h);
+            }
+            if target.is_some() && h_unclipped > h {
+                // A clipped step says little about the natural step size.
+                h_new = h_new.max(h_unclipped);
+            }
+            let was_first = self.first;
+            self.first = false;
+            reject = false;
+            self.h = h_new;
+            if was_first && self.h_event == 0.0 {
+                self.h_event = h;
+            }
+            if let Some(k) = event_here {
+                event_target = None;
+                self.switch_sign[k] = -self.switch_sign[k];
+                self.stats.events += 1;
+                self.first = true;
+                self.jac_fresh = false;
+                if self.h_event > 0.0 {
+                    self.h = self.h.min(self.h_event);
+                }
+                self.h_event = 0.0;
+            } else if self.theta > THET {
+                self.jac_fresh = false;
+            }
+            f0 = sys.rhs(self.t, &self.y);
+            self.stats.rhs_evals += 1;
+            if self.jac_fresh && self.theta <= THET {
+                // keep the Jacobian: Newton converged fast with it
+            } else {
+                self.jac_fresh = false;
+            }
+        }
+        Ok(())
+    }
+
+    /// The first sign change of a switching function inside the attempted step, as a fraction
+    /// of the step and the function's index, located on the collocation polynomial.
+    fn find_event<S: OdeSystem<N>>(
+        &self,
+        sys: &S,
+        n_switch: usize,
+        h: f64,
+        z: &[SVector<f64, N>; 3],
+        y_new: &SVector<f64, N>,
+        cont: &[SVector<f64, N>; 3],
+    ) -> Option<(f64, usize)> {
+        // Nodes: the stages (exact stage values); the last stage is the step's end.
+        let mut a = 0.0;
+        let mut ga = [0.0f64; MAX_SWITCH];
+        for (i, &c) in C.iter().enumerate() {
+            let gc = sys.switch(self.t + c * h, &(self.y + z[i]));
+            let mut best: Option<(f64, usize)> = None;
+            for k in 0..n_switch {
+                if gc[k] * self.switch_sign[k] < 0.0 {
+                    let sign = self.switch_sign[k];
+                    let g = |theta: f64| {
+                        let y = if theta == 1.0 { *y_new } else { Self::dense(y_new, cont, theta) };
+                        sys.switch(self.t + theta * h, &y)[k] * sign
+                    };
+                    let ga_k = (ga[k] * sign).max(0.0);
+                    let theta = illinois(&g, a, ga_k, c, gc[k] * sign);
+                    if best.is_none_or(|(b, _)| theta < b) {
+                        best = Some((theta, k));
+                    }
+                }
+            }
+            if best.is_some() {
+                return best;
+            }
+            a = c;
+            ga = gc;
+        }
+        None
+    }
+
+    fn initial_step(&self, f0: &SVector<f64, N>, nominal: &SVector<f64, N>, span: f64) -> f64 {
+        let d1 = rms(f0, &nominal.map(|v| v.max(f64::MIN_POSITIVE)));
+        let h = if d1 > 0.0 { 1e-2 / d1 } else { span };
+        (h * self.tol.powf(0.2)).min(span).max(1e-14 * (1.0 + self.t.abs()))
+    }
+
+    /// Appends the complete state to `out` as numbers.
+    pub fn save(&self, out: &mut Vec<f64>) {
+        out.extend_from_slice(&[self.t, self.tol]);
+        out.extend(self.y.iter());
+        out.extend_from_slice(&[
+            self.h,
+            self.h_old,
+            self.h_acc,
+            self.err_acc,
+            self.faccon,
+            self.theta,
+            self.first as u8 as f64,
+            self.has_cont as u8 as f64,
+            self.jac_fresh as u8 as f64,
+            self.h_event,
+            self.switch_sign[0],
+            self.switch_sign[1],
+            self.n_accept as f64,
+            self.stats.steps as f64,
+            self.stats.rejected as f64,
+            self.stats.rhs_evals as f64,
+            self.stats.jacobians as f64,
+            self.stats.events as f64,
+        ]);
+        for c in &self.cont {
+            out.extend(c.iter());
+        }
+        out.extend(self.jac.iter());
+    }
+
+    /// Number of numbers [`Radau5::save`] writes.
+    pub const SAVED_LEN: usize = 2 + N + 18 + 3 * N + N * N;
+
+    /// Restores a state written by [`Radau5::save`].
+    pub fn load(data: &[f64]) -> Option<Self> {
+        if data.len() != Self::SAVED_LEN {
+            return None;
+        }
+        let mut it = data.iter().copied();
+        let mut next = || it.next().unwrap_or(0.0);
+        let t = next();
+        let tol = next();
+        if !(tol.is_finite() && tol > 0.0) {
+            return None;
+        }
+        let mut r: Radau5<N> = Radau5::new(t, SVector::zeros(), tol);
+        for i in 0..N {
+            r.y[i] = next();
+        }
+        r.h = next();
+        r.h_old = next();
+        r.h_acc = next();
+        r.err_acc = next();
+        r.faccon = next();
+        r.theta = next();
+        r.first = next() != 0.0;
+        r.has_cont = next() != 0.0;
+        r.jac_fresh = next() != 0.0;
+        r.h_event = next();
+        r.switch_sign = [next(), next()];
+        r.n_accept = next() as u64;
+        r.stats.steps = next() as u64;
+        r.stats.rejected = next() as u64;
+        r.stats.rhs_evals = next() as u64;
+        r.stats.jacobians = next() as u64;
+        r.stats.events = next() as u64;
+        for c in r.cont.iter_mut() {
+            for i in 0..N {
+                c[i] = next();
+            }
+        }
+        for v in r.jac.as_mut_slice().iter_mut() {
+            *v = next();
+        }
+        Some(r)
+    }
+}
+
+fn transform<const N: usize>(m: &[[f64; 3]; 3], v: &[SVector<f64, N>; 3]) -> [SVector<f64, N>; 3] {
+    [
+        v[0] * m[0][0] + v[1] * m[0][1] + v[2] * m[0][2],
+        v[0] * m[1][0] + v[1] * m[1][1] + v[2] * m[1][2],
+        v[0] * m[2][0] + v[1] * m[2][1] + v[2] * m[2][2],
+    ]
+}
+
+fn rms<const N: usize>(v: &SVector<f64, N>, scal: &SVector<f64, N>) -> f64 {
+    (v.component_div(scal).norm_squared() / N as f64).sqrt()
+}
+
+/// Root of `g` in `[a, b]` with `g(a) ≥ 0 > g(b)`, by the Illinois variant of regula falsi,
+/// to the resolution of `f64`. Returns a point where `g` has just turned negative or is zero.
+fn illinois(g: &impl Fn(f64) -> f64, mut a: f64, mut ga: f64, mut b: f64, mut gb: f64) -> f64 {
+    let mut side = 0;
+    for _ in 0..200 {
+        if b - a <= 4.0 * f64::EPSILON * b.abs().max(1e-300) {
+            break;
+        }
+        let mut c = (a * gb - b * ga) / (gb - ga);
+        if !(c > a && c < b) {
+            c = 0.5 * (a + b);
+        }
+        let gc = g(c);
+        if gc < 0.0 {
+            b = c;
+            gb = gc;
+            if side == -1 {
+                ga *= 0.5;
+            }
+            side = -1;
+        } else {
+            a = c;
+            ga = gc;
+            if side == 1 {
+                gb *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector2;
+
+    /// Prothero–Robinson: y' = −λ(y − sin t) + cos t, exact y = sin t, arbitrarily stiff.
+    struct Prothero {
+        lambda: f64,
+    }
+    impl OdeSystem<1> for Prothero {
+        fn rhs(&self, t: f64, y: &SVector<f64, 1>) -> SVector<f64, 1> {
+            SVector::<f64, 1>::new(-self.lambda * (y[0] - t.sin()) + t.cos())
+        }
+        fn scale(&self) -> SVector<f64, 1> {
+            SVector::<f64, 1>::new(1.0)
+        }
+    }
+
+    #[test]
+    fn prothero_robinson_is_accurate_and_cheap_at_any_stiffness() {
+        let mut cost = vec![];
+        for &lambda in &[1.0, 1e4, 1e8, 1e12] {
+            let sys = Prothero { lambda };
+            let mut r = Radau5::new(0.0, SVector::<f64, 1>::new(0.0), 1e-8);
+            r.integrate(&sys, 10.0, f64::INFINITY, |_| {}).unwrap();
+            assert_eq!(r.t, 10.0);
+            let e = (r.y[0] - 10f64.sin()).abs();
+            assert!(e < 1e-7, "lambda {lambda}: error {e}");
+            cost.push(r.stats.steps);
+        }
+        // stiffness does not drive the step count up
+        assert!(cost[3] <= 2 * cost[0] + 20, "{cost:?}");
+    }
+
+    /// Harmonic oscillator y'' = −y: exact solution cos t; checks the order and the landing.
+    struct Osc;
+    impl OdeSystem<2> for Osc {
+        fn rhs(&self, _t: f64, y: &Vector2<f64>) -> Vector2<f64> {
+            Vector2::new(y[1], -y[0])
+        }
+        fn scale(&self) -> Vector2<f64> {
+            Vector2::new(1.0, 1.0)
+        }
+    }
+
+    #[test]
+    fn oscillator_error_follows_tolerance() {
+        let mut prev = f64::INFINITY;
+        for &tol in &[1e-4, 1e-7, 1e-10] {
+            let mut r = Radau5::new(0.0, Vector2::new(1.0, 0.0), tol);
+            // many communication points
+            for k in 1..=100 {
+                r.integrate(&Osc, 0.1 * k as f64, f64::INFINITY, |_| {}).unwrap();
+            }
+            let e = (r.y[0] - 10f64.cos()).abs().max((r.y[1] + 10f64.sin()).abs());
+            assert!(e < 20.0 * tol, "tol {tol}: {e}");
+            assert!(e < prev);
+            prev = e;
+        }
+    }
+
+    /// y' = |t − 0.3| − has a kink at 0.3 (switch = t − 0.3); quadrature through on_step.
+    struct Kink;
+    impl OdeSystem<1> for Kink {
+        fn rhs(&self, t: f64, _y: &SVector<f64, 1>) -> SVector<f64, 1> {
+            SVector::<f64, 1>::new((t - 0.3).abs())
+        }
+        fn scale(&self) -> SVector<f64, 1> {
+            SVector::<f64, 1>::new(1.0)
+        }
+        fn n_switch(&self) -> usize {
+            1
+        }
+        fn switch(&self, t: f64, _y: &SVector<f64, 1>) -> [f64; MAX_SWITCH] {
+            [t - 0.3, 1.0]
+        }
+    }
+
+    #[test]
+    fn kink_is_located_and_integrated_exactly() {
+        let mut r = Radau5::new(0.0, SVector::<f64, 1>::new(0.0), 1e-6);
+        let mut quad = 0.0;
+        let mut ends = vec![];
+        r.integrate(&Kink, 1.0, 0.25, |s| {
+            quad += s.h * (0..3).map(|i| B[i] * (s.t + C[i] * s.h - 0.3).abs()).sum::<f64>();
+            ends.push(s.t + s.h);
+        })
+        .unwrap();
+        let exact = 0.3f64.powi(2) / 2.0 + 0.7f64.powi(2) / 2.0;
+        assert!((r.y[0] - exact).abs() < 1e-14, "{}", r.y[0] - exact);
+        assert!((quad - exact).abs() < 1e-14);
+        assert_eq!(r.stats.events, 1);
+        assert!(ends.iter().any(|&e| (e - 0.3).abs() < 1e-15), "{ends:?}");
+    }
+
+    #[test]
+    fn save_load_round_trip_continues_bit_for_bit() {
+        let mut a = Radau5::new(0.0, Vector2::new(1.0, 0.0), 1e-6);
+        a.integrate(&Osc, 1.0, f64::INFINITY, |_| {}).unwrap();
+        let mut buf = vec![];
+        a.save(&mut buf);
+        assert_eq!(buf.len(), Radau5::<2>::SAVED_LEN);
+        let mut b = Radau5::<2>::load(&buf).unwrap();
+        a.integrate(&Osc, 2.0, f64::INFINITY, |_| {}).unwrap();
+        b.integrate(&Osc, 2.0, f64::INFINITY, |_| {}).unwrap();
+        assert_eq!(a.y[0].to_bits(), b.y[0].to_bits());
+        assert_eq!(a.y[1].to_bits(), b.y[1].to_bits());
+    }
+}
