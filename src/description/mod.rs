@@ -1,1 +1,4 @@
-//! Variable table, scenes and the generated model description (filled in by the description layer).
+//! What an FMU declares: the variable table, scenes, and the generated `modelDescription.xml`.
+//! Knows the model's identifiers, nothing of the integrator or of C.
+
+pub mod variables;

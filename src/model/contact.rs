@@ -122,7 +122,10 @@ impl<V: Vector> DriveKind<V> for Force {
     }
     #[inline(always)]
     fn body_rate(&self, body: &[f64], f_f: V, d: &DriveInputs, out: &mut [f64]) {
-        body[V::DIM..].iter().zip(out.iter_mut()).for_each(|(v, o)| *o = *v);
+        body[V::DIM..]
+            .iter()
+            .zip(out.iter_mut())
+            .for_each(|(v, o)| *o = *v);
         let acc = (V::from_xy(d.f_d, 0.0) - f_f) * self.inv_m;
         acc.write(&mut out[V::DIM..]);
     }
@@ -162,7 +165,10 @@ impl<V: Vector> DriveKind<V> for Spring {
     }
     #[inline(always)]
     fn body_rate(&self, body: &[f64], f_f: V, d: &DriveInputs, out: &mut [f64]) {
-        body[V::DIM..].iter().zip(out.iter_mut()).for_each(|(v, o)| *o = *v);
+        body[V::DIM..]
+            .iter()
+            .zip(out.iter_mut())
+            .for_each(|(v, o)| *o = *v);
         let f_d = <Self as DriveKind<V>>::drive_force(self, body, d);
         let acc = (V::from_xy(f_d, 0.0) - f_f) * self.inv_m;
         acc.write(&mut out[V::DIM..]);
@@ -297,7 +303,11 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
             let s = V::read(y.as_slice());
             let n = s.norm();
             if n > bound {
-                let s = if bound > 0.0 { s * (bound / n) } else { V::default() };
+                let s = if bound > 0.0 {
+                    s * (bound / n)
+                } else {
+                    V::default()
+                };
                 s.write(y.as_mut_slice());
             }
         }
@@ -346,7 +356,9 @@ pub fn boxed<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     tolerance: f64,
 ) -> Box<dyn Simulator> {
     assert_eq!(N, V::DIM + D::N_BODY, "state dimension of {config:?}");
-    Box::new(Contact::<V, L, D, N>::new(config, params, t_start, tolerance))
+    Box::new(Contact::<V, L, D, N>::new(
+        config, params, t_start, tolerance,
+    ))
 }
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
@@ -449,7 +461,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             .integrate(&sys, t_target, h_max, |step: &Step<N>| {
                 let mut q = 0.0;
                 for i in 0..3 {
-                    let e = dynamics.eval(step.t + C[i] * step.h, step.stages[i].as_slice(), input_support);
+                    let e = dynamics.eval(
+                        step.t + C[i] * step.h,
+                        step.stages[i].as_slice(),
+                        input_support,
+                    );
                     q += B[i] * e.f.x();
                 }
                 acc += step.h * q;
@@ -485,9 +501,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 }
 
-impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator
-    for Contact<V, L, D, N>
-{
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for Contact<V, L, D, N> {
     fn config(&self) -> Config {
         self.config
     }
@@ -688,7 +702,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator
             out.extend_from_slice(&[t.t_ref, t.value, t.slope]);
         }
         out.push(self.dynamics.x_kin_ref);
-        let h = self.dynamics.harmonic.unwrap_or(Harmonic::new(0.0, 0.0, 0.0, 0.0, 0.0));
+        let h = self
+            .dynamics
+            .harmonic
+            .unwrap_or(Harmonic::new(0.0, 0.0, 0.0, 0.0, 0.0));
         out.extend_from_slice(&[h.t_ref, h.theta_ref]);
         let w = &self.window;
         out.extend_from_slice(&[
@@ -729,7 +746,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator
         let x_kin_ref = rest[0];
         let (h_t_ref, h_theta_ref) = (rest[1], rest[2]);
         let w = &rest[3..9];
-        let radau = Radau5::<N>::load(&rest[9..]).ok_or(SimError::BadSnapshot("integrator state"))?;
+        let radau =
+            Radau5::<N>::load(&rest[9..]).ok_or(SimError::BadSnapshot("integrator state"))?;
         let mut c = Contact::<V, L, D, N>::new(self.config, params, radau.t, radau.tolerance());
         c.dynamics.tracks = tracks;
         c.dynamics.x_kin_ref = x_kin_ref;

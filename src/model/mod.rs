@@ -13,4 +13,3 @@ mod simulator;
 pub use config::{Config, Drive, Lateral, Law, Motion};
 pub use ids::{param_present, InputId, Inputs, OutputId, Outputs};
 pub use simulator::{build, SimError, Simulator, StepStats};
-

@@ -128,9 +128,7 @@ pub fn build(
         ($v:ty, $d:ty, $n:literal) => {
             match c.law {
                 Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance),
-                Law::Dupont => {
-                    boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance)
-                }
+                Law::Dupont => boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance),
                 Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance),
             }
         };

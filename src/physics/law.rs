@@ -257,7 +257,10 @@ mod tests {
         let mid = 0.5 * (s_ss + 0.5 * s_ss);
         assert!((d.alpha(mid, 1.0) - 0.5).abs() < 1e-12);
         // planar: same magnitudes in any direction
-        let sp = Planar { x: 0.0, y: 0.9 * s_ss };
+        let sp = Planar {
+            x: 0.0,
+            y: 0.9 * s_ss,
+        };
         let vp = Planar { x: 0.0, y: 1e-3 };
         assert!((d.alpha(sp, vp) - d.alpha(0.9 * s_ss, 1e-3)).abs() < 1e-15);
     }

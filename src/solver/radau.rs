@@ -302,7 +302,11 @@ impl<const N: usize> Radau5<N> {
             let betan = BETA / h;
             let e1 = SMatrix::<f64, N, N>::identity() * fac1 - self.jac;
             let e2 = SMatrix::<Complex<f64>, N, N>::from_fn(|i, j| {
-                let d = if i == j { Complex::new(alphn, betan) } else { Complex::new(0.0, 0.0) };
+                let d = if i == j {
+                    Complex::new(alphn, betan)
+                } else {
+                    Complex::new(0.0, 0.0)
+                };
                 d - Complex::new(self.jac[(i, j)], 0.0)
             });
             let lu1 = Lu::new(e1);
@@ -314,7 +318,8 @@ impl<const N: usize> Radau5<N> {
                 let c3q = h / self.h_old;
                 for (i, zi) in z.iter_mut().enumerate() {
                     let cq = C[i] * c3q;
-                    *zi = (self.cont[0] + (self.cont[1] + self.cont[2] * (cq - C1M1)) * (cq - C2M1))
+                    *zi = (self.cont[0]
+                        + (self.cont[1] + self.cont[2] * (cq - C1M1)) * (cq - C2M1))
                         * cq;
                 }
             }
@@ -344,7 +349,8 @@ impl<const N: usize> Radau5<N> {
                 r[1] = r1 - w[1] * alphn + w[2] * betan;
                 r[2] = r2 - w[2] * alphn - w[1] * betan;
                 let ok1 = lu1.solve_mut(&mut r[0]);
-                let mut rc = SVector::<Complex<f64>, N>::from_fn(|i, _| Complex::new(r[1][i], r[2][i]));
+                let mut rc =
+                    SVector::<Complex<f64>, N>::from_fn(|i, _| Complex::new(r[1][i], r[2][i]));
                 let ok2 = lu2.solve_mut(&mut rc);
                 if !(ok1 && ok2) {
                     break false;
@@ -361,7 +367,11 @@ impl<const N: usize> Radau5<N> {
                     .sqrt();
                 if newt > 1 && newt < NIT {
                     let thq = dyno / dyno_old;
-                    self.theta = if newt == 2 { thq } else { (thq * thq_old).sqrt() };
+                    self.theta = if newt == 2 {
+                        thq
+                    } else {
+                        (thq * thq_old).sqrt()
+                    };
                     thq_old = thq;
                     if self.theta < 0.99 {
                         self.faccon = self.theta / (1.0 - self.theta);
@@ -548,7 +558,11 @@ impl<const N: usize> Radau5<N> {
                 if gc[k] * self.switch_sign[k] < 0.0 {
                     let sign = self.switch_sign[k];
                     let g = |theta: f64| {
-                        let y = if theta == 1.0 { *y_new } else { Self::dense(y_new, cont, theta) };
+                        let y = if theta == 1.0 {
+                            *y_new
+                        } else {
+                            Self::dense(y_new, cont, theta)
+                        };
                         sys.switch(self.t + theta * h, &y)[k] * sign
                     };
                     let ga_k = (ga[k] * sign).max(0.0);
@@ -570,7 +584,9 @@ impl<const N: usize> Radau5<N> {
     fn initial_step(&self, f0: &SVector<f64, N>, nominal: &SVector<f64, N>, span: f64) -> f64 {
         let d1 = rms(f0, &nominal.map(|v| v.max(f64::MIN_POSITIVE)));
         let h = if d1 > 0.0 { 1e-2 / d1 } else { span };
-        (h * self.tol.powf(0.2)).min(span).max(1e-14 * (1.0 + self.t.abs()))
+        (h * self.tol.powf(0.2))
+            .min(span)
+            .max(1e-14 * (1.0 + self.t.abs()))
     }
 
     /// Appends the complete state to `out` as numbers.
@@ -747,9 +763,12 @@ mod tests {
             let mut r = Radau5::new(0.0, Vector2::new(1.0, 0.0), tol);
             // many communication points
             for k in 1..=100 {
-                r.integrate(&Osc, 0.1 * k as f64, f64::INFINITY, |_| {}).unwrap();
+                r.integrate(&Osc, 0.1 * k as f64, f64::INFINITY, |_| {})
+                    .unwrap();
             }
-            let e = (r.y[0] - 10f64.cos()).abs().max((r.y[1] + 10f64.sin()).abs());
+            let e = (r.y[0] - 10f64.cos())
+                .abs()
+                .max((r.y[1] + 10f64.sin()).abs());
             assert!(e < 20.0 * tol, "tol {tol}: {e}");
             assert!(e < prev);
             prev = e;
@@ -779,7 +798,10 @@ mod tests {
         let mut quad = 0.0;
         let mut ends = vec![];
         r.integrate(&Kink, 1.0, 0.25, |s| {
-            quad += s.h * (0..3).map(|i| B[i] * (s.t + C[i] * s.h - 0.3).abs()).sum::<f64>();
+            quad += s.h
+                * (0..3)
+                    .map(|i| B[i] * (s.t + C[i] * s.h - 0.3).abs())
+                    .sum::<f64>();
             ends.push(s.t + s.h);
         })
         .unwrap();
