@@ -1,4 +1,8 @@
 //! What an FMU declares: the variable table, scenes, and the generated `modelDescription.xml`.
 //! Knows the model's identifiers, nothing of the integrator or of C.
 
+pub mod scene;
 pub mod variables;
+pub mod xml;
+
+pub use scene::{Scene, SceneError};

@@ -4,7 +4,7 @@
 //! Value references are fixed per variable and shared by every scene; a scene carries the subset
 //! its configuration has (see [`Variable::present`]).
 
-use crate::model::{param_present, Config, Drive, InputId, Law, OutputId};
+use crate::model::{param_present, Config, Drive, InputId, Inputs, Law, OutputId};
 use crate::physics::{ParamId, Params};
 
 /// What a variable is bound to in the model.
@@ -124,11 +124,12 @@ impl Variable {
         }
     }
 
-    /// `start` attribute: the parameter's value, 0 for inputs, none for calculated outputs.
-    pub fn start(&self, c: &Config, params: &Params) -> Option<f64> {
+    /// `start` attribute: the parameter's value, the input's start value (a scene's
+    /// `Scene::inputs`), none for calculated outputs.
+    pub fn start(&self, c: &Config, params: &Params, inputs: &Inputs) -> Option<f64> {
         match (self.kind, self.causality(c)) {
             (VarKind::Param(p), _) => Some(p.get(params)),
-            (VarKind::Input(_), Causality::Input) => Some(0.0),
+            (VarKind::Input(i), Causality::Input) => Some(i.get(inputs)),
             _ => None,
         }
     }
@@ -171,13 +172,13 @@ impl Variable {
         };
         match out {
             // F_F = k_t·s for Dahl and Dupont; LuGre adds terms in v_r.
-            OutputId::FFx | OutputId::FFy | OutputId::FMean | OutputId::Reduction => {
-                if c.law == Law::LuGre {
-                    if velocity_input {
-                        deps.push(InputId::VD);
-                    }
-                    support(&mut deps);
+            OutputId::FFx | OutputId::FFy | OutputId::FMean | OutputId::Reduction
+                if c.law == Law::LuGre =>
+            {
+                if velocity_input {
+                    deps.push(InputId::VD);
                 }
+                support(&mut deps);
             }
             OutputId::PDiss => {
                 if velocity_input {

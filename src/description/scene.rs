@@ -1,0 +1,1042 @@
+//! Scenes (SPEC §4): the TOML file that says what an FMU contains.
+//!
+//! A scene fixes the structural choices ([`Config`]), the outputs the FMU exposes and the start
+//! values of its parameters and inputs. Reading one checks every key against its rule and reports
+//! the first violation as `<file>:<line>: <key> = <value>: <rule>; valid: <list>`.
+//!
+//! Depends only on `physics/params.rs`, `model/config.rs`, `model/ids.rs` and
+//! `description/variables.rs` (plus serde and toml), so that `build.rs` can include it.
+
+// A scene is read once per export or instantiation, and the error is the product the user reads:
+// keep its fields plain rather than boxing them.
+#![allow(clippy::result_large_err)]
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::ops::Range;
+
+use serde::Deserialize;
+use toml::{Spanned, Value};
+
+use crate::description::variables::{Causality, VarKind, Variable, VARIABLES};
+use crate::model::{param_present, Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId};
+use crate::physics::{ParamId, Params};
+
+/// The top-level keys of a scene file, in the order the documentation lists them.
+pub const KEYS: [&str; 9] = [
+    "model_identifier",
+    "description",
+    "law",
+    "motion",
+    "drive",
+    "lateral",
+    "support",
+    "outputs",
+    "start",
+];
+
+/// A parsed and checked scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// C identifier: the FMU's `modelIdentifier`, file name and library name.
+    pub model_identifier: String,
+    /// Free text for the model description (a summary of the configuration when the scene has
+    /// none).
+    pub description: String,
+    pub config: Config,
+    /// The outputs the FMU exposes, in [`OutputId::ALL`] order. By default every output the
+    /// configuration can have ([`OutputId::present`]), including `F_d` ([`OutputId::FDrive`]) in
+    /// a spring drive.
+    pub outputs: Vec<OutputId>,
+    /// Parameter start values: [`Params::default`] with the scene's `[start]` overrides.
+    pub start: Params,
+    /// Input start values: the defaults of SPEC §3 (`v_d` = 1e-3 m/s, the others 0) with the
+    /// scene's `[start]` overrides. An FMU instance holds these inputs until the importer sets
+    /// them; the model description's `start` attributes state them.
+    pub inputs: Inputs,
+    /// The TOML text exactly as read (shipped in the FMU as `resources/scene.toml`).
+    pub source: String,
+}
+
+/// Input start values when a scene does not set them (SPEC §3).
+pub fn default_inputs() -> Inputs {
+    Inputs {
+        f_d: 0.0,
+        v_d: 1e-3,
+        v_sx: 0.0,
+        v_sy: 0.0,
+    }
+}
+
+/// Why a scene was refused. `Display`: `<file>:<line>: <key> = <value>: <rule>; valid: <list>`
+/// (the parts that do not apply are left out).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SceneError {
+    /// File name (or other origin) of the scene text.
+    pub file: String,
+    /// 1-based line of the offending key or value, when the error has a place.
+    pub line: Option<usize>,
+    /// The key, as written in TOML (`start.k_t` for a key of the `[start]` table). Empty for a
+    /// TOML syntax error.
+    pub key: String,
+    /// The offending value as written, when there is one.
+    pub value: Option<String>,
+    /// The rule that was broken.
+    pub rule: String,
+    /// What would be valid instead (empty when the rule says it all).
+    pub valid: Vec<String>,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file)?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        write!(f, ": ")?;
+        if !self.key.is_empty() {
+            write!(f, "{}", self.key)?;
+            if let Some(v) = &self.value {
+                write!(f, " = {v}")?;
+            }
+            write!(f, ": ")?;
+        }
+        write!(f, "{}", self.rule)?;
+        if !self.valid.is_empty() {
+            write!(f, "; valid: {}", self.valid.join(", "))?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// The names and words of the configuration choices, as written in a scene.
+pub fn law_name(l: Law) -> &'static str {
+    match l {
+        Law::Dahl => "dahl",
+        Law::Dupont => "dupont",
+        Law::LuGre => "lugre",
+    }
+}
+
+pub fn motion_name(m: Motion) -> &'static str {
+    match m {
+        Motion::Longitudinal => "longitudinal",
+        Motion::Planar => "planar",
+    }
+}
+
+pub fn drive_name(d: Drive) -> &'static str {
+    match d {
+        Drive::Force => "force",
+        Drive::Velocity => "velocity",
+        Drive::Spring => "spring",
+    }
+}
+
+pub fn lateral_name(l: Lateral) -> &'static str {
+    match l {
+        Lateral::Free => "free",
+        Lateral::Guided => "guided",
+    }
+}
+
+/// One-line summary of a configuration, e.g. `Dahl law, planar motion, force drive, harmonic
+/// and input support motion`.
+pub fn summary(c: &Config) -> String {
+    let law = match c.law {
+        Law::Dahl => "Dahl",
+        Law::Dupont => "Dupont elasto-plastic",
+        Law::LuGre => "LuGre",
+    };
+    let mut s = format!(
+        "{law} friction, {} motion, {} drive",
+        motion_name(c.motion),
+        drive_name(c.drive)
+    );
+    if c.planar() && c.drive == Drive::Velocity {
+        s.push_str(&format!(" (lateral {})", lateral_name(c.lateral)));
+    }
+    let support = match (c.harmonic, c.input_support) {
+        (true, true) => "harmonic and input",
+        (true, false) => "harmonic",
+        (false, true) => "input",
+        (false, false) => "no",
+    };
+    s.push_str(&format!(", {support} support motion"));
+    s
+}
+
+/// The second reading of a scene: the entries whose elements need their own place in the file.
+#[derive(Deserialize, Default)]
+struct Detail {
+    #[serde(default)]
+    support: Option<Vec<Spanned<Value>>>,
+    #[serde(default)]
+    outputs: Option<Vec<Spanned<Value>>>,
+    #[serde(default)]
+    start: Option<BTreeMap<Spanned<String>, Spanned<Value>>>,
+}
+
+/// Context for building errors that point into the text.
+struct Ctx<'a> {
+    text: &'a str,
+    origin: &'a str,
+}
+
+impl Ctx<'_> {
+    fn line(&self, span: &Range<usize>) -> usize {
+        let end = span.start.min(self.text.len());
+        self.text.as_bytes()[..end]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1
+    }
+
+    /// The value as written (its TOML text on one line).
+    fn shown(&self, v: &Spanned<Value>) -> String {
+        let span = v.span();
+        match self.text.get(span) {
+            Some(s) if !s.contains('\n') && !s.is_empty() => s.to_string(),
+            _ => v.get_ref().to_string(),
+        }
+    }
+
+    fn err(
+        &self,
+        span: Option<&Range<usize>>,
+        key: impl Into<String>,
+        value: Option<String>,
+        rule: impl Into<String>,
+        valid: Vec<String>,
+    ) -> SceneError {
+        SceneError {
+            file: self.origin.to_string(),
+            line: span.map(|s| self.line(s)),
+            key: key.into(),
+            value,
+            rule: rule.into(),
+            valid,
+        }
+    }
+
+    fn toml_error(&self, e: toml::de::Error) -> SceneError {
+        let line = e.span().map(|s| self.line(&s));
+        SceneError {
+            file: self.origin.to_string(),
+            line,
+            key: String::new(),
+            value: None,
+            rule: format!("invalid TOML: {}", e.message().trim()),
+            valid: vec![],
+        }
+    }
+}
+
+fn quoted(words: &[&str]) -> Vec<String> {
+    words.iter().map(|w| format!("\"{w}\"")).collect()
+}
+
+/// A string entry that must be one of `words`; returns its index in `words`.
+fn choice(
+    ctx: &Ctx,
+    key: &str,
+    key_span: &Range<usize>,
+    v: &Spanned<Value>,
+    words: &[&str],
+    rule: &str,
+) -> Result<usize, SceneError> {
+    let found = v
+        .get_ref()
+        .as_str()
+        .and_then(|s| words.iter().position(|w| *w == s));
+    found.ok_or_else(|| {
+        let rule = if v.get_ref().is_str() {
+            rule.to_string()
+        } else {
+            format!("must be a string ({rule})")
+        };
+        ctx.err(Some(key_span), key, Some(ctx.shown(v)), rule, quoted(words))
+    })
+}
+
+/// True when `s` is a valid C identifier that is not a C keyword.
+pub fn is_c_identifier(s: &str) -> bool {
+    const KEYWORDS: [&str; 44] = [
+        "auto",
+        "break",
+        "case",
+        "char",
+        "const",
+        "continue",
+        "default",
+        "do",
+        "double",
+        "else",
+        "enum",
+        "extern",
+        "float",
+        "for",
+        "goto",
+        "if",
+        "inline",
+        "int",
+        "long",
+        "register",
+        "restrict",
+        "return",
+        "short",
+        "signed",
+        "sizeof",
+        "static",
+        "struct",
+        "switch",
+        "typedef",
+        "union",
+        "unsigned",
+        "void",
+        "volatile",
+        "while",
+        "_Alignas",
+        "_Alignof",
+        "_Atomic",
+        "_Bool",
+        "_Complex",
+        "_Generic",
+        "_Imaginary",
+        "_Noreturn",
+        "_Static_assert",
+        "_Thread_local",
+    ];
+    let mut chars = s.chars();
+    match chars.next() {
+        Some(c) if c.is_ascii_alphabetic() || c == '_' => {}
+        _ => return false,
+    }
+    chars.all(|c| c.is_ascii_alphanumeric() || c == '_') && !KEYWORDS.contains(&s)
+}
+
+impl Scene {
+    /// Reads a scene from TOML text; `origin` (the file name) appears in error messages.
+    pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let ctx = Ctx { text, origin };
+        let top: BTreeMap<Spanned<String>, Spanned<Value>> =
+            toml::from_str(text).map_err(|e| ctx.toml_error(e))?;
+
+        // Unknown keys, in file order so that the first one written is the one reported.
+        let mut entries: Vec<(&Spanned<String>, &Spanned<Value>)> = top.iter().collect();
+        entries.sort_by_key(|(k, _)| k.span().start);
+        for (k, v) in &entries {
+            if !KEYS.contains(&k.get_ref().as_str()) {
+                return Err(ctx.err(
+                    Some(&k.span()),
+                    k.get_ref().as_str(),
+                    Some(ctx.shown(v)),
+                    "unknown key",
+                    KEYS.iter().map(|s| s.to_string()).collect(),
+                ));
+            }
+        }
+        let get = |key: &str| top.get_key_value(key).map(|(k, v)| (k.span(), v.clone()));
+        let missing = |key: &str, rule: &str, valid: Vec<String>| SceneError {
+            file: origin.to_string(),
+            line: None,
+            key: key.to_string(),
+            value: None,
+            rule: rule.to_string(),
+            valid,
+        };
+
+        // model_identifier
+        let model_identifier = match get("model_identifier") {
+            None => {
+                return Err(missing(
+                    "model_identifier",
+                    "missing (required: the FMU's model identifier, a C identifier)",
+                    vec![],
+                ))
+            }
+            Some((ks, v)) => match v.get_ref().as_str() {
+                Some(s) if is_c_identifier(s) => s.to_string(),
+                _ => {
+                    return Err(ctx.err(
+                        Some(&ks),
+                        "model_identifier",
+                        Some(ctx.shown(&v)),
+                        "must be a C identifier (a letter or _, then letters, digits or _; not a C keyword)",
+                        vec![],
+                    ))
+                }
+            },
+        };
+
+        // law, motion, drive
+        const LAWS: [&str; 3] = ["dahl", "dupont", "lugre"];
+        const MOTIONS: [&str; 2] = ["longitudinal", "planar"];
+        const DRIVES: [&str; 3] = ["force", "velocity", "spring"];
+        const LATERALS: [&str; 2] = ["free", "guided"];
+        const SUPPORTS: [&str; 2] = ["harmonic", "input"];
+        let law = match get("law") {
+            None => {
+                return Err(missing(
+                    "law",
+                    "missing (required: the friction law)",
+                    quoted(&LAWS),
+                ))
+            }
+            Some((ks, v)) => [Law::Dahl, Law::Dupont, Law::LuGre]
+                [choice(&ctx, "law", &ks, &v, &LAWS, "not a friction law")?],
+        };
+        let motion = match get("motion") {
+            None => {
+                return Err(missing(
+                    "motion",
+                    "missing (required: the kinematics of the contact)",
+                    quoted(&MOTIONS),
+                ))
+            }
+            Some((ks, v)) => [Motion::Longitudinal, Motion::Planar]
+                [choice(&ctx, "motion", &ks, &v, &MOTIONS, "not a motion")?],
+        };
+        let drive = match get("drive") {
+            None => Drive::Force,
+            Some((ks, v)) => [Drive::Force, Drive::Velocity, Drive::Spring]
+                [choice(&ctx, "drive", &ks, &v, &DRIVES, "not a drive")?],
+        };
+        let lateral = match get("lateral") {
+            None => Lateral::Guided,
+            Some((ks, v)) => {
+                let l = [Lateral::Free, Lateral::Guided]
+                    [choice(&ctx, "lateral", &ks, &v, &LATERALS, "not a lateral motion")?];
+                if motion != Motion::Planar || drive != Drive::Velocity {
+                    return Err(ctx.err(
+                        Some(&ks),
+                        "lateral",
+                        Some(ctx.shown(&v)),
+                        format!(
+                            "only a planar velocity drive has a lateral choice (this scene is {}, {} drive); remove the key",
+                            motion_name(motion),
+                            drive_name(drive)
+                        ),
+                        vec![],
+                    ));
+                }
+                l
+            }
+        };
+
+        // The entries whose elements need their own line. The first reading proved the file is
+        // TOML; check the container types before the typed second reading.
+        for (key, is_ok, what) in [
+            (
+                "support",
+                Value::is_array as fn(&Value) -> bool,
+                "an array of strings",
+            ),
+            ("outputs", Value::is_array, "an array of strings"),
+            ("start", Value::is_table, "a table"),
+        ] {
+            if let Some((ks, v)) = get(key) {
+                if !is_ok(v.get_ref()) {
+                    return Err(ctx.err(
+                        Some(&ks),
+                        key,
+                        Some(ctx.shown(&v)),
+                        format!("must be {what}"),
+                        vec![],
+                    ));
+                }
+            }
+        }
+        let detail: Detail = toml::from_str(text).map_err(|e| ctx.toml_error(e))?;
+
+        // support
+        let (support_span, support) = match (get("support"), detail.support) {
+            (Some((ks, _)), Some(list)) => (ks, list),
+            _ => {
+                return Err(missing(
+                    "support",
+                    "missing (required: the support motion, a non-empty array)",
+                    quoted(&SUPPORTS),
+                ))
+            }
+        };
+        if support.is_empty() {
+            return Err(ctx.err(
+                Some(&support_span),
+                "support",
+                Some("[]".into()),
+                "must name at least one support motion",
+                quoted(&SUPPORTS),
+            ));
+        }
+        let (mut harmonic, mut input_support) = (false, false);
+        for item in &support {
+            let k = choice(
+                &ctx,
+                "support",
+                &item.span(),
+                item,
+                &SUPPORTS,
+                "not a support motion",
+            )?;
+            let flag = if k == 0 {
+                &mut harmonic
+            } else {
+                &mut input_support
+            };
+            if *flag {
+                return Err(ctx.err(
+                    Some(&item.span()),
+                    "support",
+                    Some(ctx.shown(item)),
+                    "listed twice",
+                    quoted(&SUPPORTS),
+                ));
+            }
+            *flag = true;
+        }
+
+        let config = Config {
+            law,
+            motion,
+            drive,
+            lateral,
+            harmonic,
+            input_support,
+        };
+        let what = format!(
+            "{} {} scene with {} drive",
+            law_name(law),
+            motion_name(motion),
+            drive_name(drive)
+        );
+
+        // outputs
+        let possible: Vec<OutputId> = OutputId::ALL
+            .into_iter()
+            .filter(|o| o.present(&config))
+            .collect();
+        let possible_names = || -> Vec<String> {
+            possible
+                .iter()
+                .map(|o| format!("\"{}\"", o.name()))
+                .collect()
+        };
+        let outputs = match detail.outputs {
+            None => possible.clone(),
+            Some(list) => {
+                if list.is_empty() {
+                    let span = get("outputs").map(|(ks, _)| ks);
+                    return Err(ctx.err(
+                        span.as_ref(),
+                        "outputs",
+                        Some("[]".into()),
+                        "must name at least one output (leave the key out for all of them)",
+                        possible_names(),
+                    ));
+                }
+                let mut chosen: Vec<OutputId> = vec![];
+                for item in &list {
+                    let span = item.span();
+                    let shown = Some(ctx.shown(item));
+                    let Some(name) = item.get_ref().as_str() else {
+                        return Err(ctx.err(
+                            Some(&span),
+                            "outputs",
+                            shown,
+                            "must be a string (an output name)",
+                            possible_names(),
+                        ));
+                    };
+                    let o = match possible.iter().find(|o| o.name() == name) {
+                        Some(&o) => o,
+                        None => {
+                            let rule = output_refusal(name, &config, &what);
+                            return Err(ctx.err(
+                                Some(&span),
+                                "outputs",
+                                shown,
+                                rule,
+                                possible_names(),
+                            ));
+                        }
+                    };
+                    if chosen.contains(&o) {
+                        return Err(ctx.err(
+                            Some(&span),
+                            "outputs",
+                            shown,
+                            "listed twice",
+                            possible_names(),
+                        ));
+                    }
+                    chosen.push(o);
+                }
+                OutputId::ALL
+                    .into_iter()
+                    .filter(|o| chosen.contains(o))
+                    .collect()
+            }
+        };
+
+        // [start]
+        let mut start = Params::default();
+        let mut inputs = default_inputs();
+        let settable: Vec<&'static Variable> = VARIABLES
+            .iter()
+            .filter(|v| v.present(&config, &outputs) && v.causality(&config) != Causality::Output)
+            .collect();
+        let settable_names = || settable.iter().map(|v| v.name().to_string()).collect();
+        let mut start_entries: Vec<_> = detail.start.unwrap_or_default().into_iter().collect();
+        start_entries.sort_by_key(|(k, _)| k.span().start);
+        for (k, v) in &start_entries {
+            let name = k.get_ref().as_str();
+            let key = format!("start.{name}");
+            let span = k.span();
+            let shown = Some(ctx.shown(v));
+            let Some(var) = VARIABLES.iter().find(|var| var.name() == name) else {
+                return Err(ctx.err(
+                    Some(&span),
+                    key,
+                    shown,
+                    "not a parameter or input of any scene",
+                    settable_names(),
+                ));
+            };
+            if !settable.iter().any(|s| s.vr == var.vr) {
+                let rule = start_refusal(var, &config, &what);
+                return Err(ctx.err(Some(&span), key, shown, rule, settable_names()));
+            }
+            let value = match v.get_ref() {
+                Value::Float(x) => *x,
+                Value::Integer(i) => *i as f64,
+                _ => return Err(ctx.err(Some(&span), key, shown, "must be a number", vec![])),
+            };
+            match var.kind {
+                VarKind::Param(p) => {
+                    p.set(&mut start, value).map_err(|e| {
+                        ctx.err(
+                            Some(&span),
+                            key.clone(),
+                            shown.clone(),
+                            e.rule.text(),
+                            vec![],
+                        )
+                    })?;
+                }
+                VarKind::Input(i) => {
+                    if !value.is_finite() {
+                        return Err(ctx.err(Some(&span), key, shown, "must be finite", vec![]));
+                    }
+                    *i.slot(&mut inputs) = value;
+                }
+                VarKind::Output(_) => unreachable!("outputs are not settable"),
+            }
+        }
+
+        // description
+        let description = match get("description") {
+            None => summary(&config),
+            Some((ks, v)) => match v.get_ref().as_str() {
+                Some(s) => s.to_string(),
+                None => {
+                    return Err(ctx.err(
+                        Some(&ks),
+                        "description",
+                        Some(ctx.shown(&v)),
+                        "must be a string",
+                        vec![],
+                    ))
+                }
+            },
+        };
+
+        Ok(Scene {
+            model_identifier,
+            description,
+            config,
+            outputs,
+            start,
+            inputs,
+            source: text.to_string(),
+        })
+    }
+
+    /// Reads a scene file.
+    pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+            file: origin.clone(),
+            line: None,
+            key: String::new(),
+            value: None,
+            rule: format!("cannot read the scene: {e}"),
+            valid: vec![],
+        })?;
+        Scene::parse(&text, &origin)
+    }
+
+    /// The variables this scene carries, in table (`ModelVariables`) order.
+    pub fn variables(&self) -> impl Iterator<Item = &'static Variable> + '_ {
+        VARIABLES
+            .iter()
+            .filter(move |v| v.present(&self.config, &self.outputs))
+    }
+
+    /// True when the scene carries the variable with this value reference.
+    pub fn has_vr(&self, vr: u32) -> bool {
+        self.variables().any(|v| v.vr == vr)
+    }
+
+    /// The `start` value of a variable in this scene (parameters and inputs; none for
+    /// calculated outputs).
+    pub fn start_of(&self, v: &Variable) -> Option<f64> {
+        v.start(&self.config, &self.start, &self.inputs)
+    }
+}
+
+/// Why an output name is not available in this configuration.
+fn output_refusal(name: &str, c: &Config, what: &str) -> String {
+    if let Some(i) = InputId::ALL.into_iter().find(|i| i.name() == name) {
+        return if i.present(c) {
+            format!("{name} is an input of this {what}, not an output")
+        } else if name == "F_d" {
+            format!(
+                "a {what} has no F_d (an input in force drive, an output in spring drive; in velocity drive F_Fx is the driving force)"
+            )
+        } else {
+            format!("{name} is an input of scenes with input support motion, never an output")
+        };
+    }
+    if OutputId::ALL.iter().any(|o| o.name() == name) {
+        return format!("not an output of a {what}");
+    }
+    if ParamId::from_name(name).is_some() {
+        return format!("{name} is a parameter, not an output");
+    }
+    "not an output of any scene".to_string()
+}
+
+/// Why a `[start]` key is refused (the variable exists in some scene, not settable in this one).
+fn start_refusal(var: &Variable, c: &Config, what: &str) -> String {
+    let name = var.name();
+    match var.kind {
+        VarKind::Param(p) if !param_present(p, c) => {
+            format!("{name} is not a parameter of a {what}")
+        }
+        VarKind::Input(i) if i.present(c) || (i == InputId::FD && c.drive == Drive::Spring) => {
+            format!("{name} is an output of this {what}; outputs have no start value")
+        }
+        VarKind::Input(InputId::VSx | InputId::VSy) if !c.input_support => {
+            format!("{name} is an input only with input support motion (support = [\"input\"])")
+        }
+        VarKind::Input(_) => format!("{name} is not an input of a {what}"),
+        _ => format!("{name} is an output; outputs have no start value"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"
+model_identifier = "PaperLongitudinal"
+description = "test"
+law = "dahl"
+motion = "longitudinal"
+drive = "velocity"
+support = ["harmonic"]
+outputs = ["reduction", "F_Fx", "F_mean"]
+[start]
+k_t = 2e8
+v_d = 5e-4
+"#;
+
+    fn err(text: &str) -> String {
+        Scene::parse(text, "bad.toml").unwrap_err().to_string()
+    }
+
+    /// A valid planar scene with one line (`line`) added before `[start]`, and `start` lines.
+    fn planar(line: &str, start: &str) -> String {
+        format!(
+            "model_identifier = \"X\"\nlaw = \"dahl\"\nmotion = \"planar\"\ndrive = \"force\"\nsupport = [\"harmonic\"]\n{line}\n[start]\n{start}\n"
+        )
+    }
+
+    fn longitudinal(line: &str, start: &str) -> String {
+        format!(
+            "model_identifier = \"X\"\nlaw = \"dahl\"\nmotion = \"longitudinal\"\ndrive = \"velocity\"\nsupport = [\"harmonic\"]\n{line}\n[start]\n{start}\n"
+        )
+    }
+
+    #[test]
+    fn good_scene_reads() {
+        let s = Scene::parse(GOOD, "good.toml").unwrap();
+        assert_eq!(s.model_identifier, "PaperLongitudinal");
+        assert_eq!(s.config.law, Law::Dahl);
+        assert_eq!(s.config.motion, Motion::Longitudinal);
+        assert_eq!(s.config.drive, Drive::Velocity);
+        assert!(s.config.harmonic && !s.config.input_support);
+        assert_eq!(
+            s.outputs,
+            vec![OutputId::FFx, OutputId::FMean, OutputId::Reduction]
+        );
+        assert_eq!(s.start.k_t, 2e8);
+        assert_eq!(s.inputs.v_d, 5e-4);
+        assert_eq!(s.source, GOOD);
+        assert!(s.has_vr(201) && !s.has_vr(202) && !s.has_vr(203));
+        assert!(s.has_vr(102) && !s.has_vr(101));
+    }
+
+    #[test]
+    fn defaults() {
+        let s = Scene::parse(&planar("", ""), "x.toml").unwrap();
+        assert_eq!(
+            s.config,
+            Config {
+                input_support: false,
+                ..Config::default()
+            }
+        );
+        assert_eq!(s.start, Params::default());
+        assert_eq!(s.inputs, default_inputs());
+        assert_eq!(s.description, summary(&s.config));
+        let all: Vec<_> = OutputId::ALL
+            .into_iter()
+            .filter(|o| *o != OutputId::FDrive)
+            .collect();
+        assert_eq!(s.outputs, all);
+        let spring = Scene::parse(&planar("", "").replace("force", "spring"), "x.toml").unwrap();
+        assert!(spring.outputs.contains(&OutputId::FDrive));
+        // F_d is then the output vr 101.
+        assert!(spring.has_vr(101));
+    }
+
+    #[test]
+    fn unknown_key() {
+        assert_eq!(
+            err(&planar("colour = \"red\"", "")),
+            "bad.toml:6: colour = \"red\": unknown key; valid: model_identifier, description, law, motion, drive, lateral, support, outputs, start"
+        );
+    }
+
+    #[test]
+    fn toml_syntax_error_names_the_line() {
+        let e = err("model_identifier = \"X\"\nlaw = \n");
+        assert!(e.starts_with("bad.toml:2: invalid TOML: "), "{e}");
+    }
+
+    #[test]
+    fn missing_required_key() {
+        assert_eq!(
+            err("model_identifier = \"X\"\nmotion = \"planar\"\nsupport = [\"input\"]\n"),
+            "bad.toml: law: missing (required: the friction law); valid: \"dahl\", \"dupont\", \"lugre\""
+        );
+        assert!(err("law = \"dahl\"\n").starts_with("bad.toml: model_identifier: missing"));
+        assert_eq!(
+            err("model_identifier = \"X\"\nlaw = \"dahl\"\nmotion = \"planar\"\n"),
+            "bad.toml: support: missing (required: the support motion, a non-empty array); valid: \"harmonic\", \"input\""
+        );
+    }
+
+    #[test]
+    fn law_out_of_set() {
+        assert_eq!(
+            err(&planar("", "").replace("\"dahl\"", "\"coulomb\"")),
+            "bad.toml:2: law = \"coulomb\": not a friction law; valid: \"dahl\", \"dupont\", \"lugre\""
+        );
+        assert_eq!(
+            err(&planar("", "").replace("\"dahl\"", "3")),
+            "bad.toml:2: law = 3: must be a string (not a friction law); valid: \"dahl\", \"dupont\", \"lugre\""
+        );
+    }
+
+    #[test]
+    fn motion_out_of_set() {
+        assert_eq!(
+            err(&planar("", "").replace("\"planar\"", "\"spatial\"")),
+            "bad.toml:3: motion = \"spatial\": not a motion; valid: \"longitudinal\", \"planar\""
+        );
+    }
+
+    #[test]
+    fn drive_out_of_set() {
+        assert_eq!(
+            err(&planar("", "").replace("\"force\"", "\"torque\"")),
+            "bad.toml:4: drive = \"torque\": not a drive; valid: \"force\", \"velocity\", \"spring\""
+        );
+    }
+
+    #[test]
+    fn lateral_out_of_set() {
+        let text = planar("lateral = \"loose\"", "").replace("\"force\"", "\"velocity\"");
+        assert_eq!(
+            err(&text),
+            "bad.toml:6: lateral = \"loose\": not a lateral motion; valid: \"free\", \"guided\""
+        );
+    }
+
+    #[test]
+    fn lateral_in_longitudinal_scene() {
+        assert_eq!(
+            err(&longitudinal("lateral = \"free\"", "")),
+            "bad.toml:6: lateral = \"free\": only a planar velocity drive has a lateral choice (this scene is longitudinal, velocity drive); remove the key"
+        );
+    }
+
+    #[test]
+    fn lateral_with_force_drive() {
+        assert_eq!(
+            err(&planar("lateral = \"guided\"", "")),
+            "bad.toml:6: lateral = \"guided\": only a planar velocity drive has a lateral choice (this scene is planar, force drive); remove the key"
+        );
+    }
+
+    #[test]
+    fn support_entries() {
+        let base = planar("", "");
+        assert_eq!(
+            err(&base.replace("[\"harmonic\"]", "[]")),
+            "bad.toml:5: support = []: must name at least one support motion; valid: \"harmonic\", \"input\""
+        );
+        assert_eq!(
+            err(&base.replace("[\"harmonic\"]", "[\"harmonic\", \"random\"]")),
+            "bad.toml:5: support = \"random\": not a support motion; valid: \"harmonic\", \"input\""
+        );
+        assert_eq!(
+            err(&base.replace("[\"harmonic\"]", "[\n  \"input\",\n  \"input\",\n]")),
+            "bad.toml:7: support = \"input\": listed twice; valid: \"harmonic\", \"input\""
+        );
+        assert_eq!(
+            err(&base.replace("[\"harmonic\"]", "\"harmonic\"")),
+            "bad.toml:5: support = \"harmonic\": must be an array of strings"
+        );
+    }
+
+    #[test]
+    fn output_the_scene_cannot_have() {
+        assert_eq!(
+            err(&longitudinal("outputs = [\"F_Fx\", \"F_Fy\"]", "")),
+            "bad.toml:6: outputs = \"F_Fy\": not an output of a dahl longitudinal scene with velocity drive; valid: \"F_Fx\", \"x\", \"v_x\", \"s_x\", \"F_mean\", \"reduction\", \"P_diss\""
+        );
+        assert_eq!(
+            err(&longitudinal("outputs = [\"F_Fx\", \"F_d\"]", "")),
+            "bad.toml:6: outputs = \"F_d\": a dahl longitudinal scene with velocity drive has no F_d (an input in force drive, an output in spring drive; in velocity drive F_Fx is the driving force); valid: \"F_Fx\", \"x\", \"v_x\", \"s_x\", \"F_mean\", \"reduction\", \"P_diss\""
+        );
+        assert!(err(&longitudinal("outputs = [\"F_Fx\", \"F_Fx\"]", ""))
+            .starts_with("bad.toml:6: outputs = \"F_Fx\": listed twice; valid: "));
+        assert!(err(&longitudinal("outputs = [\"force\"]", ""))
+            .starts_with("bad.toml:6: outputs = \"force\": not an output of any scene; valid: "));
+        assert!(err(&longitudinal("outputs = [\"k_t\"]", "")).starts_with(
+            "bad.toml:6: outputs = \"k_t\": k_t is a parameter, not an output; valid: "
+        ));
+        assert!(err(&longitudinal("outputs = []", "")).starts_with(
+            "bad.toml:6: outputs = []: must name at least one output (leave the key out for all of them); valid: \"F_Fx\""
+        ));
+    }
+
+    #[test]
+    fn input_asked_for_as_output() {
+        assert!(err(&longitudinal("outputs = [\"v_sx\"]", "")).starts_with(
+            "bad.toml:6: outputs = \"v_sx\": v_sx is an input of scenes with input support motion, never an output; valid: "
+        ));
+        let with_input =
+            planar("outputs = [\"v_sx\"]", "").replace("[\"harmonic\"]", "[\"input\"]");
+        assert!(err(&with_input).starts_with(
+            "bad.toml:6: outputs = \"v_sx\": v_sx is an input of this dahl planar scene with force drive, not an output; valid: "
+        ));
+        assert!(err(&planar("outputs = [\"F_d\"]", "")).starts_with(
+            "bad.toml:6: outputs = \"F_d\": F_d is an input of this dahl planar scene with force drive, not an output; valid: "
+        ));
+    }
+
+    #[test]
+    fn start_value_out_of_range() {
+        assert_eq!(
+            err(&planar("", "k_t = -1e8")),
+            "bad.toml:8: start.k_t = -1e8: must be finite and > 0"
+        );
+        assert_eq!(
+            err(&planar("", "mu = -0.1")),
+            "bad.toml:8: start.mu = -0.1: must be finite and >= 0"
+        );
+        assert_eq!(
+            err(&planar("", "m = nan")),
+            "bad.toml:8: start.m = nan: must be finite and > 0"
+        );
+        assert_eq!(
+            err(&planar("", "v_sx = inf").replace("[\"harmonic\"]", "[\"input\"]")),
+            "bad.toml:8: start.v_sx = inf: must be finite"
+        );
+        assert_eq!(
+            err(&planar("", "m = \"heavy\"")),
+            "bad.toml:8: start.m = \"heavy\": must be a number"
+        );
+        let dupont = planar("", "r_ba = 1").replace("dahl", "dupont");
+        assert_eq!(
+            err(&dupont),
+            "bad.toml:8: start.r_ba = 1: must be finite, >= 0 and < 1"
+        );
+    }
+
+    #[test]
+    fn start_key_the_scene_does_not_have() {
+        let e = err(&planar("", "F_S = 20"));
+        assert!(
+            e.starts_with("bad.toml:8: start.F_S = 20: F_S is not a parameter of a dahl planar scene with force drive; valid: m, F_N, mu, k_t, u0, f, angle, phase, T_avg, F_d"),
+            "{e}"
+        );
+        let e = err(&planar("", "kappa = 2"));
+        assert!(
+            e.starts_with("bad.toml:8: start.kappa = 2: kappa is not a parameter of a dahl planar scene with force drive; valid: "),
+            "{e}"
+        );
+        assert!(err(&longitudinal("", "F_d = 1")).starts_with(
+            "bad.toml:8: start.F_d = 1: F_d is not an input of a dahl longitudinal scene with velocity drive; valid: "
+        ));
+        assert!(err(&longitudinal("", "v_sx = 1e-3")).starts_with(
+            "bad.toml:8: start.v_sx = 1e-3: v_sx is an input only with input support motion (support = [\"input\"]); valid: "
+        ));
+        assert!(err(&longitudinal("", "F_Fx = 1")).starts_with(
+            "bad.toml:8: start.F_Fx = 1: F_Fx is an output; outputs have no start value; valid: "
+        ));
+        let spring = planar("", "F_d = 1").replace("\"force\"", "\"spring\"");
+        assert!(err(&spring).starts_with(
+            "bad.toml:8: start.F_d = 1: F_d is an output of this dahl planar scene with spring drive; outputs have no start value; valid: "
+        ));
+        assert!(err(&planar("", "stiffness = 1")).starts_with(
+            "bad.toml:8: start.stiffness = 1: not a parameter or input of any scene; valid: "
+        ));
+    }
+
+    #[test]
+    fn model_identifier_not_a_c_identifier() {
+        for bad in ["\"2fast\"", "\"Vibrating-Contact\"", "\"\"", "\"int\"", "7"] {
+            let text = planar("", "").replace("\"X\"", bad);
+            assert_eq!(
+                err(&text),
+                format!("bad.toml:1: model_identifier = {bad}: must be a C identifier (a letter or _, then letters, digits or _; not a C keyword)")
+            );
+        }
+        assert!(is_c_identifier("_Vibrating_Contact2"));
+    }
+
+    #[test]
+    fn wrong_container_types() {
+        assert_eq!(
+            err(&planar("outputs = \"F_Fx\"", "")),
+            "bad.toml:6: outputs = \"F_Fx\": must be an array of strings"
+        );
+        assert_eq!(
+            err(&planar("", "").replace("[start]\n", "start = 3\n")),
+            "bad.toml:7: start = 3: must be a table"
+        );
+        assert_eq!(
+            err(&planar("description = 5", "")),
+            "bad.toml:6: description = 5: must be a string"
+        );
+    }
+}

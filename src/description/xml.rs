@@ -1,0 +1,404 @@
+//! The FMI 2.0 Co-Simulation `modelDescription.xml` of a scene, written with quick-xml from the
+//! variable table ([`crate::description::variables::VARIABLES`]) and nothing else.
+//!
+//! Depends only on the table, the scene and the model's identifiers (no solver, no FMI), so that
+//! `build.rs` can include it.
+//!
+//! Choices documented here because the standard leaves them open:
+//! - `DefaultExperiment`: 0 to 0.1 s (200 periods of the default 2 kHz excitation), relative
+//!   tolerance 1e-6, communication step 1e-3 s (two periods; the FMU resolves the periods inside a
+//!   step itself).
+//! - The GUID is the SHA-256 of this document written with an empty GUID, formatted as a UUID
+//!   (version 8, "custom") in braces: it changes with anything the document says (scene,
+//!   variables, start values, generator version) and with nothing else.
+
+use std::io::Write;
+
+use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, Event};
+use quick_xml::Writer;
+use sha2::{Digest, Sha256};
+
+use crate::description::scene::Scene;
+use crate::description::variables::{Causality, Initial, VarKind, Variable};
+use crate::model::{Config, Drive, InputId, Law, OutputId};
+use crate::physics::ParamId;
+
+/// `DefaultExperiment` of every FMU: (startTime, stopTime, tolerance, stepSize).
+pub const DEFAULT_EXPERIMENT: (f64, f64, f64, f64) = (0.0, 0.1, 1e-6, 1e-3);
+
+/// The FMI version written into `modelDescription.xml`.
+pub const FMI_VERSION: &str = "2.0";
+
+/// `generationTool` attribute.
+pub fn generation_tool() -> String {
+    format!("vibrofric {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// Log categories: (name, description).
+pub const LOG_CATEGORIES: [(&str, &str); 4] = [
+    (
+        "logEvents",
+        "Instance life cycle and solver events (instantiation, initialization, reset, state save/restore)",
+    ),
+    (
+        "logStatusWarning",
+        "Calls that returned fmi2Warning",
+    ),
+    (
+        "logStatusError",
+        "Calls that returned fmi2Error or fmi2Discard, naming the variable and the rule",
+    ),
+    ("logAll", "Every message, including per-call traces"),
+];
+
+/// SI exponents of a unit: (kg, m, s, rad).
+fn base_unit(unit: &str) -> Option<[i32; 4]> {
+    Some(match unit {
+        "kg" => [1, 0, 0, 0],
+        "m" => [0, 1, 0, 0],
+        "s" => [0, 0, 1, 0],
+        "rad" => [0, 0, 0, 1],
+        "m/s" => [0, 1, -1, 0],
+        "N" => [1, 1, -2, 0],
+        "N/m" => [1, 0, -2, 0],
+        "N.s/m" => [1, 0, -1, 0],
+        "Hz" => [0, 0, -1, 0],
+        "W" => [1, 2, -3, 0],
+        "1" => [0, 0, 0, 0],
+        _ => return None,
+    })
+}
+
+/// Display units: (unit, display unit, factor), `display = factor·value`.
+pub const DISPLAY_UNITS: [(&str, &str, f64); 3] = [
+    ("m", "um", 1e6),
+    ("m/s", "mm/s", 1e3),
+    ("rad", "deg", 57.29577951308232),
+];
+
+/// Order of `UnitDefinitions`.
+const UNIT_ORDER: [&str; 11] = [
+    "1", "kg", "m", "m/s", "N", "N/m", "N.s/m", "W", "Hz", "s", "rad",
+];
+
+/// A number as the model description writes it: shortest round-trip form, with an exponent for
+/// very small or large magnitudes.
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && !(1e-3..1e6).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// What an output depends on at initialization (`ModelStructure/InitialUnknowns`): derived from
+/// the equations of SPEC §2 at the start time with zero deformation, the body at rest at the
+/// origin and the spring's far end at `x_d = 0`.
+///
+/// - `s`, `x`, `y`, `v_y` are 0: no dependency; `v_x` is `v_d` in velocity drive, else 0.
+/// - Dahl and Dupont: `F_F = k_t·s = 0`, `P_diss = 0`: no dependency.
+/// - LuGre: `ds/dt = v_r` (0 when `F_C = F_S = 0`), so `F_F = (h_t(|v_r|) + h_v)·v_r` with
+///   `h_t = 2·zeta_t·sqrt(m·k_t)·exp(−|v_r|²/v_e²)`; `v_r = v − v_s` depends on `v_d` (velocity
+///   drive), the harmonic source (`u0`, `f`, `phase`, `angle`) and the input support velocities.
+///   `P_diss = F_F·v_r` has the same dependencies.
+/// - `F_mean` = `F_Fx` at the start; `reduction = F_mean/F_C` adds `F_N`, `mu`.
+/// - Spring drive: `F_d = c_d·v_d`.
+pub fn initial_dependencies(v: &Variable, c: &Config) -> Vec<VarKind> {
+    let out = match v.kind {
+        VarKind::Output(o) => o,
+        VarKind::Input(InputId::FD) if c.drive == Drive::Spring => OutputId::FDrive,
+        _ => return vec![],
+    };
+    let relative_velocity = || {
+        let mut d = vec![];
+        if c.drive == Drive::Velocity {
+            d.push(VarKind::Input(InputId::VD));
+        }
+        if c.harmonic {
+            d.extend([ParamId::U0, ParamId::F, ParamId::Phase].map(VarKind::Param));
+            if c.planar() {
+                d.push(VarKind::Param(ParamId::Angle));
+            }
+        }
+        if c.input_support {
+            d.push(VarKind::Input(InputId::VSx));
+            if c.planar() {
+                d.push(VarKind::Input(InputId::VSy));
+            }
+        }
+        d
+    };
+    let friction = || {
+        if c.law != Law::LuGre {
+            return vec![];
+        }
+        let mut d: Vec<VarKind> = [
+            ParamId::M,
+            ParamId::FN,
+            ParamId::Mu,
+            ParamId::KT,
+            ParamId::FS,
+            ParamId::ZetaT,
+            ParamId::HV,
+            ParamId::VE,
+        ]
+        .map(VarKind::Param)
+        .to_vec();
+        d.extend(relative_velocity());
+        d
+    };
+    match out {
+        OutputId::FFx | OutputId::FFy | OutputId::FMean | OutputId::PDiss => friction(),
+        OutputId::Reduction => {
+            let mut d = friction();
+            for p in [ParamId::FN, ParamId::Mu] {
+                if !d.contains(&VarKind::Param(p)) {
+                    d.push(VarKind::Param(p));
+                }
+            }
+            d
+        }
+        OutputId::Vx if c.drive == Drive::Velocity => vec![VarKind::Input(InputId::VD)],
+        OutputId::FDrive => vec![VarKind::Param(ParamId::CD), VarKind::Input(InputId::VD)],
+        _ => vec![],
+    }
+}
+
+/// 1-based `ModelVariables` indices of the variables of `kinds` that the scene carries, sorted.
+fn indices(vars: &[&Variable], kinds: &[VarKind]) -> Vec<usize> {
+    let mut idx: Vec<usize> = vars
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| kinds.contains(&v.kind))
+        .map(|(i, _)| i + 1)
+        .collect();
+    idx.sort_unstable();
+    idx
+}
+
+fn joined(idx: &[usize]) -> String {
+    idx.iter()
+        .map(|i| i.to_string())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The model description of a scene, with its content-derived GUID.
+pub fn model_description(scene: &Scene) -> String {
+    let g = guid(scene);
+    write_document(scene, &g)
+}
+
+/// The GUID of a scene's model description: SHA-256 of the document written with an empty GUID,
+/// as a version-8 UUID in braces.
+pub fn guid(scene: &Scene) -> String {
+    let doc = write_document(scene, "");
+    let h = Sha256::digest(doc.as_bytes());
+    let mut b = [0u8; 16];
+    b.copy_from_slice(&h[..16]);
+    b[6] = (b[6] & 0x0f) | 0x80; // version 8
+    b[8] = (b[8] & 0x3f) | 0x80; // RFC 4122 variant
+    let hex: String = b.iter().map(|x| format!("{x:02x}")).collect();
+    format!(
+        "{{{}-{}-{}-{}-{}}}",
+        &hex[0..8],
+        &hex[8..12],
+        &hex[12..16],
+        &hex[16..20],
+        &hex[20..32]
+    )
+}
+
+type W = Writer<Vec<u8>>;
+
+fn empty(w: &mut W, name: &str, attrs: &[(&str, &str)]) -> std::io::Result<()> {
+    let mut e = BytesStart::new(name);
+    for a in attrs {
+        e.push_attribute(*a);
+    }
+    w.write_event(Event::Empty(e))
+}
+
+fn open(w: &mut W, name: &str, attrs: &[(&str, &str)]) -> std::io::Result<()> {
+    let mut e = BytesStart::new(name);
+    for a in attrs {
+        e.push_attribute(*a);
+    }
+    w.write_event(Event::Start(e))
+}
+
+fn close(w: &mut W, name: &str) -> std::io::Result<()> {
+    w.write_event(Event::End(BytesEnd::new(name)))
+}
+
+fn write_document(scene: &Scene, guid: &str) -> String {
+    let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
+    write_into(&mut w, scene, guid).expect("writing XML into memory cannot fail");
+    let mut bytes = w.into_inner();
+    bytes.write_all(b"\n").expect("in memory");
+    String::from_utf8(bytes).expect("quick-xml writes UTF-8 from UTF-8 input")
+}
+
+fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
+    let c = &scene.config;
+    let vars: Vec<&'static Variable> = scene.variables().collect();
+    w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)))?;
+    let tool = generation_tool();
+    open(
+        w,
+        "fmiModelDescription",
+        &[
+            ("fmiVersion", FMI_VERSION),
+            ("modelName", &scene.model_identifier),
+            ("guid", guid),
+            ("description", &scene.description),
+            ("generationTool", &tool),
+            ("variableNamingConvention", "flat"),
+            ("numberOfEventIndicators", "0"),
+        ],
+    )?;
+
+    let interpolate = vars.iter().any(|v| v.causality(c) == Causality::Input);
+    empty(
+        w,
+        "CoSimulation",
+        &[
+            ("modelIdentifier", &scene.model_identifier),
+            ("needsExecutionTool", "false"),
+            ("canHandleVariableCommunicationStepSize", "true"),
+            (
+                "canInterpolateInputs",
+                if interpolate { "true" } else { "false" },
+            ),
+            ("maxOutputDerivativeOrder", "0"),
+            ("canRunAsynchronuously", "false"),
+            ("canBeInstantiatedOnlyOncePerProcess", "false"),
+            ("canNotUseMemoryManagementFunctions", "true"),
+            ("canGetAndSetFMUstate", "true"),
+            ("canSerializeFMUstate", "true"),
+            ("providesDirectionalDerivative", "false"),
+        ],
+    )?;
+
+    // UnitDefinitions: every unit a variable of this scene uses.
+    open(w, "UnitDefinitions", &[])?;
+    for unit in UNIT_ORDER {
+        if !vars.iter().any(|v| v.unit == unit) {
+            continue;
+        }
+        let exps = base_unit(unit).expect("every unit of the table has SI exponents");
+        open(w, "Unit", &[("name", unit)])?;
+        let strs: Vec<(&str, String)> = ["kg", "m", "s", "rad"]
+            .iter()
+            .zip(exps)
+            .filter(|(_, e)| *e != 0)
+            .map(|(n, e)| (*n, e.to_string()))
+            .collect();
+        let attrs: Vec<(&str, &str)> = strs.iter().map(|(n, e)| (*n, e.as_str())).collect();
+        empty(w, "BaseUnit", &attrs)?;
+        for (u, d, factor) in DISPLAY_UNITS {
+            if u == unit {
+                empty(
+                    w,
+                    "DisplayUnit",
+                    &[("name", d), ("factor", &number(factor))],
+                )?;
+            }
+        }
+        close(w, "Unit")?;
+    }
+    close(w, "UnitDefinitions")?;
+
+    open(w, "LogCategories", &[])?;
+    for (name, description) in LOG_CATEGORIES {
+        empty(
+            w,
+            "Category",
+            &[("name", name), ("description", description)],
+        )?;
+    }
+    close(w, "LogCategories")?;
+
+    let (t0, t1, tol, step) = DEFAULT_EXPERIMENT;
+    empty(
+        w,
+        "DefaultExperiment",
+        &[
+            ("startTime", &number(t0)),
+            ("stopTime", &number(t1)),
+            ("tolerance", &number(tol)),
+            ("stepSize", &number(step)),
+        ],
+    )?;
+
+    open(w, "ModelVariables", &[])?;
+    for (i, v) in vars.iter().enumerate() {
+        w.write_event(Event::Comment(quick_xml::events::BytesText::new(&format!(
+            " index {} ",
+            i + 1
+        ))))?;
+        let vr = v.vr.to_string();
+        let mut attrs: Vec<(&str, &str)> = vec![
+            ("name", v.name()),
+            ("valueReference", &vr),
+            ("description", v.description),
+            ("causality", v.causality(c).as_str()),
+            ("variability", v.variability().as_str()),
+        ];
+        let initial = v.initial(c);
+        if let Some(init) = initial {
+            attrs.push(("initial", init.as_str()));
+        }
+        open(w, "ScalarVariable", &attrs)?;
+        let start = match initial {
+            Some(Initial::Calculated) => None,
+            _ => scene.start_of(v),
+        };
+        let nums: Vec<(&str, String)> = [("start", start), ("min", v.min()), ("max", v.max())]
+            .into_iter()
+            .filter_map(|(n, x)| x.map(|x| (n, number(x))))
+            .collect();
+        let mut real: Vec<(&str, &str)> = vec![("unit", v.unit)];
+        if let Some(d) = v.display_unit {
+            real.push(("displayUnit", d));
+        }
+        real.extend(nums.iter().map(|(n, x)| (*n, x.as_str())));
+        empty(w, "Real", &real)?;
+        close(w, "ScalarVariable")?;
+    }
+    close(w, "ModelVariables")?;
+
+    open(w, "ModelStructure", &[])?;
+    let outputs: Vec<(usize, &&Variable)> = vars
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality(c) == Causality::Output)
+        .map(|(i, v)| (i + 1, v))
+        .collect();
+    open(w, "Outputs", &[])?;
+    for (index, v) in &outputs {
+        let kinds: Vec<VarKind> = v
+            .input_dependencies(c)
+            .into_iter()
+            .map(VarKind::Input)
+            .collect();
+        let deps = joined(&indices(&vars, &kinds));
+        let index = index.to_string();
+        empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
+    }
+    close(w, "Outputs")?;
+    open(w, "InitialUnknowns", &[])?;
+    for (index, v) in &outputs {
+        if v.initial(c) != Some(Initial::Calculated) {
+            continue;
+        }
+        let deps = joined(&indices(&vars, &initial_dependencies(v, c)));
+        let index = index.to_string();
+        empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
+    }
+    close(w, "InitialUnknowns")?;
+    close(w, "ModelStructure")?;
+
+    close(w, "fmiModelDescription")
+}
