@@ -6,10 +6,17 @@
 //! - [`solver`]: the stiff, event-locating integrator (no physics, no XML);
 //! - [`model`]: a contact as a [`model::Simulator`], specialised at compile time per scene;
 //! - [`description`]: the variable table, scenes, the generated `modelDescription.xml`;
-//! - [`fmi`]: the FMI 2.0 instance state machine and the thin `extern "C"` layer.
+//! - [`fmi`]: the FMI 2.0 instance state machine and the thin `extern "C"` layer;
+//! - [`importer`]: a small FMI 2.0 Co-Simulation importer (tests and the exporter's self-check).
+//!
+//! `unsafe` code lives only in `fmi::ffi` (the exported C functions) and `importer` (which
+//! calls an FMU's C functions); everything else is safe Rust.
+#![deny(unsafe_code)]
 
 pub mod description;
 pub mod fmi;
+#[allow(unsafe_code)]
+pub mod importer;
 pub mod model;
 pub mod physics;
 pub mod solver;

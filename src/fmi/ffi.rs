@@ -1,0 +1,701 @@
+//! The exported FMI 2.0 functions: every common and every Co-Simulation function of the
+//! standard (importers such as fmpy bind all of them when they load the library).
+//!
+//! This layer is thin: it checks pointers (a NULL instance returns `fmi2Error`; a NULL array
+//! with a nonzero length returns `fmi2Error` with a log line), turns C strings and arrays into
+//! Rust ones, catches every panic so that none crosses the C boundary, and calls
+//! [`Instance`]. It is, with the importer, the only place of the crate with `unsafe` code.
+//!
+//! An `fmi2Component` is a `Box<Component>`; an `fmi2FMUstate` a `Box<StateBox>`. Both carry a
+//! magic number so that a pointer of the wrong kind is refused rather than used. Nothing is
+//! global: instances are independent and may live on any thread (one thread at a time per
+//! instance, as the standard requires).
+#![allow(non_snake_case, clippy::missing_safety_doc)]
+
+use std::ffi::{CStr, CString};
+use std::os::raw::c_char;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::ptr;
+
+use super::instance::{FmuState, Instance, Logger, NoLogger, Status};
+use super::types::*;
+
+const COMPONENT_MAGIC: u64 = 0x7669_6272_6f66_7269; // "vibrofri"
+const STATE_MAGIC: u64 = 0x7669_6272_6f73_7461; // "vibrosta"
+
+struct Component {
+    magic: u64,
+    inst: Instance,
+}
+
+struct StateBox {
+    magic: u64,
+    state: FmuState,
+}
+
+/// The importer's logger callback, called with the format `"%s"` and the message as its one
+/// argument, so that a `%` in a message is never interpreted.
+struct CLogger {
+    logger: fmi2CallbackLogger,
+    env: fmi2ComponentEnvironment,
+    name: CString,
+}
+
+impl Logger for CLogger {
+    fn log(&self, status: Status, category: &str, message: &str) {
+        let category = CString::new(category).unwrap_or_default();
+        let message = CString::new(message.replace('\0', "\\0")).unwrap_or_default();
+        // SAFETY: the importer's logger takes these five pointers plus the variadic arguments
+        // of the format; "%s" consumes exactly one `char*`. All strings live until it returns.
+        unsafe {
+            (self.logger)(
+                self.env,
+                self.name.as_ptr(),
+                status as fmi2Status,
+                category.as_ptr(),
+                c"%s".as_ptr(),
+                message.as_ptr(),
+            )
+        }
+    }
+}
+
+fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        format!("panic: {s}")
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        format!("panic: {s}")
+    } else {
+        "panic".to_string()
+    }
+}
+
+/// The instance behind a component pointer, or `None` for NULL or a foreign pointer.
+unsafe fn component<'a>(c: fmi2Component) -> Option<&'a mut Component> {
+    let comp = (c as *mut Component).as_mut()?;
+    (comp.magic == COMPONENT_MAGIC).then_some(comp)
+}
+
+/// Runs `body` on the instance, catching panics.
+unsafe fn call(
+    c: fmi2Component,
+    f: &str,
+    body: impl FnOnce(&mut Instance) -> Status,
+) -> fmi2Status {
+    let Some(comp) = component(c) else {
+        return fmi2Error;
+    };
+    match catch_unwind(AssertUnwindSafe(|| body(&mut comp.inst))) {
+        Ok(s) => s as fmi2Status,
+        Err(p) => {
+            let what = panic_text(p.as_ref());
+            let _ = catch_unwind(AssertUnwindSafe(|| comp.inst.internal_error(f, &what)));
+            fmi2Error
+        }
+    }
+}
+
+/// An input array: empty when `n` is 0, `None` when NULL with `n` > 0.
+unsafe fn array<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
+    if n == 0 {
+        Some(&[])
+    } else if p.is_null() {
+        None
+    } else {
+        Some(std::slice::from_raw_parts(p, n))
+    }
+}
+
+/// An output array: empty when `n` is 0, `None` when NULL with `n` > 0.
+unsafe fn array_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
+    if n == 0 {
+        Some(&mut [])
+    } else if p.is_null() {
+        None
+    } else {
+        Some(std::slice::from_raw_parts_mut(p, n))
+    }
+}
+
+fn null(inst: &mut Instance, f: &str, arg: &str, n: usize) -> Status {
+    inst.invalid_argument(
+        f,
+        format!("{arg} = NULL with nvr = {n}: must point to {n} elements"),
+    )
+}
+
+unsafe fn string(s: fmi2String) -> Option<String> {
+    (!s.is_null()).then(|| CStr::from_ptr(s).to_string_lossy().into_owned())
+}
+
+// ---- common functions -----------------------------------------------------------------------
+
+#[no_mangle]
+pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
+    TYPES_PLATFORM.as_ptr()
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetVersion() -> *const c_char {
+    VERSION.as_ptr()
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Instantiate(
+    instanceName: fmi2String,
+    fmuType: fmi2Type,
+    fmuGUID: fmi2String,
+    fmuResourceLocation: fmi2String,
+    functions: *const fmi2CallbackFunctions,
+    _visible: fmi2Boolean,
+    loggingOn: fmi2Boolean,
+) -> fmi2Component {
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let functions = functions.as_ref()?;
+        let name = string(instanceName);
+        let logger: Box<dyn Logger> = match functions.logger {
+            Some(logger) => Box::new(CLogger {
+                logger,
+                env: functions.componentEnvironment,
+                name: CString::new(name.clone().unwrap_or_default()).unwrap_or_default(),
+            }),
+            None => Box::new(NoLogger),
+        };
+        let Some(name) = name else {
+            logger.log(
+                Status::Error,
+                "logStatusError",
+                "fmi2Instantiate: instanceName = NULL: must be a string",
+            );
+            return None;
+        };
+        let inst = Instance::instantiate(
+            &name,
+            fmuType,
+            string(fmuGUID).as_deref(),
+            string(fmuResourceLocation).as_deref(),
+            logger,
+            loggingOn != fmi2False,
+        )?;
+        Some(Box::into_raw(Box::new(Component {
+            magic: COMPONENT_MAGIC,
+            inst,
+        })))
+    }));
+    match result {
+        Ok(Some(p)) => p as fmi2Component,
+        _ => ptr::null_mut(),
+    }
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
+    if let Some(comp) = component(c) {
+        let _ = catch_unwind(AssertUnwindSafe(|| comp.inst.free()));
+        comp.magic = 0;
+        let b = Box::from_raw(comp as *mut Component);
+        let _ = catch_unwind(AssertUnwindSafe(move || drop(b)));
+    }
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetDebugLogging(
+    c: fmi2Component,
+    loggingOn: fmi2Boolean,
+    nCategories: usize,
+    categories: *const fmi2String,
+) -> fmi2Status {
+    const F: &str = "fmi2SetDebugLogging";
+    call(c, F, |inst| {
+        let Some(cats) = array(categories, nCategories) else {
+            return inst.invalid_argument(
+                F,
+                format!("categories = NULL with nCategories = {nCategories}"),
+            );
+        };
+        let mut names = Vec::with_capacity(cats.len());
+        for (k, &p) in cats.iter().enumerate() {
+            match string(p) {
+                Some(s) => names.push(s),
+                None => return inst.invalid_argument(F, format!("categories[{k}] = NULL")),
+            }
+        }
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        inst.set_debug_logging(loggingOn != fmi2False, &names)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetupExperiment(
+    c: fmi2Component,
+    toleranceDefined: fmi2Boolean,
+    tolerance: fmi2Real,
+    startTime: fmi2Real,
+    stopTimeDefined: fmi2Boolean,
+    stopTime: fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2SetupExperiment", |inst| {
+        inst.setup_experiment(
+            (toleranceDefined != fmi2False).then_some(tolerance),
+            startTime,
+            (stopTimeDefined != fmi2False).then_some(stopTime),
+        )
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2EnterInitializationMode", |i| {
+        i.enter_initialization_mode()
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2ExitInitializationMode", |i| {
+        i.exit_initialization_mode()
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2Terminate", |i| i.terminate())
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2Reset", |i| i.reset())
+}
+
+// ---- getters and setters --------------------------------------------------------------------
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    const F: &str = "fmi2GetReal";
+    call(c, F, |inst| {
+        let Some(vrs) = array(vr, nvr) else {
+            return null(inst, F, "vr", nvr);
+        };
+        let Some(values) = array_mut(value, nvr) else {
+            return null(inst, F, "value", nvr);
+        };
+        inst.get_real(vrs, values)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetReal(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    const F: &str = "fmi2SetReal";
+    call(c, F, |inst| {
+        let Some(vrs) = array(vr, nvr) else {
+            return null(inst, F, "vr", nvr);
+        };
+        let Some(values) = array(value, nvr) else {
+            return null(inst, F, "value", nvr);
+        };
+        inst.set_real(vrs, values)
+    })
+}
+
+/// The getters and setters of the types this FMU has no variables of.
+unsafe fn no_variables<T>(
+    c: fmi2Component,
+    f: &'static str,
+    type_name: &str,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const T,
+) -> fmi2Status {
+    call(c, f, |inst| {
+        let Some(vrs) = array(vr, nvr) else {
+            return null(inst, f, "vr", nvr);
+        };
+        if nvr > 0 && value.is_null() {
+            return null(inst, f, "value", nvr);
+        }
+        inst.no_variables_of_type(f, type_name, vrs)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
+    no_variables(c, "fmi2GetInteger", "Integer", vr, nvr, value as *const _)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetInteger(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Integer,
+) -> fmi2Status {
+    no_variables(c, "fmi2SetInteger", "Integer", vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    no_variables(c, "fmi2GetBoolean", "Boolean", vr, nvr, value as *const _)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetBoolean(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2Boolean,
+) -> fmi2Status {
+    no_variables(c, "fmi2SetBoolean", "Boolean", vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *mut fmi2String,
+) -> fmi2Status {
+    no_variables(c, "fmi2GetString", "String", vr, nvr, value as *const _)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetString(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    value: *const fmi2String,
+) -> fmi2Status {
+    no_variables(c, "fmi2SetString", "String", vr, nvr, value)
+}
+
+// ---- FMU state ------------------------------------------------------------------------------
+
+unsafe fn state_ref<'a>(s: fmi2FMUstate) -> Option<&'a mut StateBox> {
+    let b = (s as *mut StateBox).as_mut()?;
+    (b.magic == STATE_MAGIC).then_some(b)
+}
+
+/// Stores `state` in `*slot`: into the box already there (the standard lets the importer hand a
+/// previous state back for reuse), or a new one.
+unsafe fn store(slot: &mut fmi2FMUstate, state: FmuState) -> bool {
+    if slot.is_null() {
+        *slot = Box::into_raw(Box::new(StateBox {
+            magic: STATE_MAGIC,
+            state,
+        })) as fmi2FMUstate;
+        true
+    } else if let Some(b) = state_ref(*slot) {
+        b.state = state;
+        true
+    } else {
+        false
+    }
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetFMUstate(
+    c: fmi2Component,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    const F: &str = "fmi2GetFMUstate";
+    call(c, F, |inst| {
+        let Some(slot) = FMUstate.as_mut() else {
+            return inst.invalid_argument(F, "FMUstate = NULL: must point to an fmi2FMUstate");
+        };
+        let state = match inst.get_fmu_state() {
+            Ok(s) => s,
+            Err(s) => return s,
+        };
+        if store(slot, state) {
+            Status::Ok
+        } else {
+            inst.invalid_argument(
+                F,
+                "*FMUstate is neither NULL nor a state returned by this FMU",
+            )
+        }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status {
+    const F: &str = "fmi2SetFMUstate";
+    call(c, F, |inst| match state_ref(FMUstate) {
+        Some(b) => inst.set_fmu_state(&b.state),
+        None => inst.invalid_argument(
+            F,
+            "FMUstate is NULL or not a state returned by fmi2GetFMUstate/fmi2DeSerializeFMUstate",
+        ),
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeFMUstate(
+    c: fmi2Component,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    const F: &str = "fmi2FreeFMUstate";
+    call(c, F, |inst| {
+        let Some(slot) = FMUstate.as_mut() else {
+            return inst.invalid_argument(F, "FMUstate = NULL: must point to an fmi2FMUstate");
+        };
+        let s = inst.allow_state_call(F);
+        if s != Status::Ok {
+            return s;
+        }
+        if slot.is_null() {
+            return Status::Ok;
+        }
+        match state_ref(*slot) {
+            Some(b) => {
+                b.magic = 0;
+                drop(Box::from_raw(b as *mut StateBox));
+                *slot = ptr::null_mut();
+                Status::Ok
+            }
+            None => inst.invalid_argument(F, "*FMUstate is not a state returned by this FMU"),
+        }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+    c: fmi2Component,
+    FMUstate: fmi2FMUstate,
+    size: *mut usize,
+) -> fmi2Status {
+    const F: &str = "fmi2SerializedFMUstateSize";
+    call(c, F, |inst| {
+        let Some(b) = state_ref(FMUstate) else {
+            return inst.invalid_argument(F, "FMUstate is NULL or not a state of this FMU");
+        };
+        let Some(size) = size.as_mut() else {
+            return inst.invalid_argument(F, "size = NULL");
+        };
+        match inst.serialize_fmu_state(F, &b.state) {
+            Ok(bytes) => {
+                *size = bytes.len();
+                Status::Ok
+            }
+            Err(s) => s,
+        }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializeFMUstate(
+    c: fmi2Component,
+    FMUstate: fmi2FMUstate,
+    serializedState: *mut fmi2Byte,
+    size: usize,
+) -> fmi2Status {
+    const F: &str = "fmi2SerializeFMUstate";
+    call(c, F, |inst| {
+        let Some(b) = state_ref(FMUstate) else {
+            return inst.invalid_argument(F, "FMUstate is NULL or not a state of this FMU");
+        };
+        let bytes = match inst.serialize_fmu_state(F, &b.state) {
+            Ok(bytes) => bytes,
+            Err(s) => return s,
+        };
+        if size < bytes.len() {
+            return inst.invalid_argument(
+                F,
+                format!(
+                    "size = {size}: the state needs {} bytes (fmi2SerializedFMUstateSize)",
+                    bytes.len()
+                ),
+            );
+        }
+        let Some(out) = array_mut(serializedState as *mut u8, size) else {
+            return inst.invalid_argument(F, format!("serializedState = NULL with size = {size}"));
+        };
+        out[..bytes.len()].copy_from_slice(&bytes);
+        out[bytes.len()..].fill(0);
+        Status::Ok
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+    c: fmi2Component,
+    serializedState: *const fmi2Byte,
+    size: usize,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    const F: &str = "fmi2DeSerializeFMUstate";
+    call(c, F, |inst| {
+        let Some(bytes) = array(serializedState as *const u8, size) else {
+            return inst.invalid_argument(F, format!("serializedState = NULL with size = {size}"));
+        };
+        let Some(slot) = FMUstate.as_mut() else {
+            return inst.invalid_argument(F, "FMUstate = NULL: must point to an fmi2FMUstate");
+        };
+        let state = match inst.deserialize_fmu_state(bytes) {
+            Ok(s) => s,
+            Err(s) => return s,
+        };
+        if store(slot, state) {
+            Status::Ok
+        } else {
+            inst.invalid_argument(
+                F,
+                "*FMUstate is neither NULL nor a state returned by this FMU",
+            )
+        }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
+    c: fmi2Component,
+    _vUnknown_ref: *const fmi2ValueReference,
+    _nUnknown: usize,
+    _vKnown_ref: *const fmi2ValueReference,
+    _nKnown: usize,
+    _dvKnown: *const fmi2Real,
+    _dvUnknown: *mut fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2GetDirectionalDerivative", |i| {
+        i.get_directional_derivative()
+    })
+}
+
+// ---- Co-Simulation --------------------------------------------------------------------------
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    const F: &str = "fmi2SetRealInputDerivatives";
+    call(c, F, |inst| {
+        let Some(vrs) = array(vr, nvr) else {
+            return null(inst, F, "vr", nvr);
+        };
+        let Some(orders) = array(order, nvr) else {
+            return null(inst, F, "order", nvr);
+        };
+        let Some(values) = array(value, nvr) else {
+            return null(inst, F, "value", nvr);
+        };
+        inst.set_real_input_derivatives(vrs, orders, values)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *mut fmi2Real,
+) -> fmi2Status {
+    call(c, "fmi2GetRealOutputDerivatives", |i| {
+        i.get_real_output_derivatives()
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DoStep(
+    c: fmi2Component,
+    currentCommunicationPoint: fmi2Real,
+    communicationStepSize: fmi2Real,
+    _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+) -> fmi2Status {
+    call(c, "fmi2DoStep", |i| {
+        i.do_step(currentCommunicationPoint, communicationStepSize)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
+    call(c, "fmi2CancelStep", |i| i.cancel_step())
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStatus(
+    c: fmi2Component,
+    s: fmi2StatusKind,
+    _value: *mut fmi2Status,
+) -> fmi2Status {
+    call(c, "fmi2GetStatus", |i| i.get_status(s))
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealStatus(
+    c: fmi2Component,
+    s: fmi2StatusKind,
+    value: *mut fmi2Real,
+) -> fmi2Status {
+    const F: &str = "fmi2GetRealStatus";
+    call(c, F, |inst| {
+        let Some(out) = value.as_mut() else {
+            return inst.invalid_argument(F, "value = NULL");
+        };
+        let (status, v) = inst.get_real_status(s);
+        if status == Status::Ok {
+            *out = v;
+        }
+        status
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetIntegerStatus(
+    c: fmi2Component,
+    s: fmi2StatusKind,
+    _value: *mut fmi2Integer,
+) -> fmi2Status {
+    call(c, "fmi2GetIntegerStatus", |i| i.get_integer_status(s))
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBooleanStatus(
+    c: fmi2Component,
+    s: fmi2StatusKind,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
+    const F: &str = "fmi2GetBooleanStatus";
+    call(c, F, |inst| {
+        let Some(out) = value.as_mut() else {
+            return inst.invalid_argument(F, "value = NULL");
+        };
+        let (status, v) = inst.get_boolean_status(s);
+        if status == Status::Ok {
+            *out = if v { fmi2True } else { fmi2False };
+        }
+        status
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStringStatus(
+    c: fmi2Component,
+    s: fmi2StatusKind,
+    _value: *mut fmi2String,
+) -> fmi2Status {
+    call(c, "fmi2GetStringStatus", |i| i.get_string_status(s))
+}

@@ -1,0 +1,839 @@
+//! A small FMI 2.0 Co-Simulation importer: loads an FMU (an unpacked folder or a `.fmu` archive)
+//! with `libloading`, binds every common and Co-Simulation function, and drives instances
+//! through a safe API. The tests use it as an importer would, and the exporter's self-check runs
+//! every FMU it writes through it.
+//!
+//! `unsafe` is confined to loading the library, calling its functions with pointers that this
+//! module owns, and the logger callback below; each block says why it is sound.
+//!
+//! # The logger callback
+//!
+//! The FMI logger is a C variadic function, which stable Rust cannot define. The callback here is
+//! an ordinary `extern "C"` function with one pointer parameter after `message`, cast to the
+//! variadic type. On the x86-64 System V and AArch64 Linux calling conventions, variadic
+//! arguments are passed exactly like named ones, so the first variadic argument arrives in that
+//! parameter. The FMU of this crate always logs with the format `"%s"` and the message as that
+//! first argument; the callback reads it only when the format is exactly `"%s"`, and otherwise
+//! records the format string itself, unformatted. (On ABIs that pass variadic arguments
+//! differently, e.g. Apple's AArch64, only the format string would be reliable.)
+
+use std::ffi::{CStr, CString};
+use std::fmt;
+use std::os::raw::{c_char, c_int, c_void};
+use std::path::{Path, PathBuf};
+use std::ptr;
+use std::sync::Mutex;
+
+use libloading::Library;
+
+use crate::fmi::types::*;
+pub use crate::fmi::Status;
+
+/// One message of the FMU's logger.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LogRecord {
+    pub instance: String,
+    pub status: Status,
+    pub category: String,
+    /// The format string the FMU passed (this crate's FMU always passes `"%s"`).
+    pub format: String,
+    /// The message: the first variadic argument when the format is `"%s"`, else the format.
+    pub message: String,
+}
+
+impl fmt::Display for LogRecord {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "[{}] {} {}: {}",
+            self.category,
+            self.instance,
+            self.status.name(),
+            self.message
+        )
+    }
+}
+
+/// Why an FMU could not be loaded or run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImportError(pub String);
+
+impl fmt::Display for ImportError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ImportError {}
+
+fn err<T>(msg: impl Into<String>) -> Result<T, ImportError> {
+    Err(ImportError(msg.into()))
+}
+
+/// The status an FMU returned; codes outside the standard's map to `Fatal`.
+pub fn status(code: fmi2Status) -> Status {
+    match code {
+        0 => Status::Ok,
+        1 => Status::Warning,
+        2 => Status::Discard,
+        3 => Status::Error,
+        5 => Status::Pending,
+        _ => Status::Fatal,
+    }
+}
+
+macro_rules! functions {
+    ($($name:ident : fn($($arg:ty),*) $(-> $ret:ty)?;)*) => {
+        /// Every FMI 2.0 common and Co-Simulation function of a loaded FMU, for callers that
+        /// need the raw C interface (the tests pass NULL pointers through it). The pointers are
+        /// valid while the [`Fmu`] they came from is alive.
+        #[derive(Clone, Copy)]
+        #[allow(non_snake_case)]
+        pub struct Functions {
+            $(pub $name: unsafe extern "C" fn($($arg),*) $(-> $ret)?,)*
+        }
+
+        impl Functions {
+            /// Names of all the functions an FMI 2.0 Co-Simulation FMU exports.
+            pub const NAMES: &'static [&'static str] = &[$(stringify!($name)),*];
+
+            fn load(lib: &Library) -> Result<Functions, ImportError> {
+                Ok(Functions {
+                    $($name: {
+                        let name = concat!(stringify!($name), "\0");
+                        // SAFETY: the symbol is declared with the signature of the FMI 2.0
+                        // standard; the pointer is copied out and used only while `lib` lives
+                        // (both are owned by the same `Fmu`).
+                        let sym = unsafe {
+                            lib.get::<unsafe extern "C" fn($($arg),*) $(-> $ret)?>(name.as_bytes())
+                        };
+                        match sym {
+                            Ok(s) => *s,
+                            Err(e) => return err(format!(
+                                "the FMU does not export {}: {e}", stringify!($name))),
+                        }
+                    },)*
+                })
+            }
+        }
+    };
+}
+
+functions! {
+    fmi2GetTypesPlatform: fn() -> *const c_char;
+    fmi2GetVersion: fn() -> *const c_char;
+    fmi2SetDebugLogging: fn(fmi2Component, fmi2Boolean, usize, *const fmi2String) -> fmi2Status;
+    fmi2Instantiate: fn(fmi2String, fmi2Type, fmi2String, fmi2String,
+        *const fmi2CallbackFunctions, fmi2Boolean, fmi2Boolean) -> fmi2Component;
+    fmi2FreeInstance: fn(fmi2Component);
+    fmi2SetupExperiment: fn(fmi2Component, fmi2Boolean, fmi2Real, fmi2Real, fmi2Boolean,
+        fmi2Real) -> fmi2Status;
+    fmi2EnterInitializationMode: fn(fmi2Component) -> fmi2Status;
+    fmi2ExitInitializationMode: fn(fmi2Component) -> fmi2Status;
+    fmi2Terminate: fn(fmi2Component) -> fmi2Status;
+    fmi2Reset: fn(fmi2Component) -> fmi2Status;
+    fmi2GetReal: fn(fmi2Component, *const fmi2ValueReference, usize, *mut fmi2Real) -> fmi2Status;
+    fmi2GetInteger: fn(fmi2Component, *const fmi2ValueReference, usize, *mut fmi2Integer)
+        -> fmi2Status;
+    fmi2GetBoolean: fn(fmi2Component, *const fmi2ValueReference, usize, *mut fmi2Boolean)
+        -> fmi2Status;
+    fmi2GetString: fn(fmi2Component, *const fmi2ValueReference, usize, *mut fmi2String)
+        -> fmi2Status;
+    fmi2SetReal: fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Real)
+        -> fmi2Status;
+    fmi2SetInteger: fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Integer)
+        -> fmi2Status;
+    fmi2SetBoolean: fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2Boolean)
+        -> fmi2Status;
+    fmi2SetString: fn(fmi2Component, *const fmi2ValueReference, usize, *const fmi2String)
+        -> fmi2Status;
+    fmi2GetFMUstate: fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status;
+    fmi2SetFMUstate: fn(fmi2Component, fmi2FMUstate) -> fmi2Status;
+    fmi2FreeFMUstate: fn(fmi2Component, *mut fmi2FMUstate) -> fmi2Status;
+    fmi2SerializedFMUstateSize: fn(fmi2Component, fmi2FMUstate, *mut usize) -> fmi2Status;
+    fmi2SerializeFMUstate: fn(fmi2Component, fmi2FMUstate, *mut fmi2Byte, usize) -> fmi2Status;
+    fmi2DeSerializeFMUstate: fn(fmi2Component, *const fmi2Byte, usize, *mut fmi2FMUstate)
+        -> fmi2Status;
+    fmi2GetDirectionalDerivative: fn(fmi2Component, *const fmi2ValueReference, usize,
+        *const fmi2ValueReference, usize, *const fmi2Real, *mut fmi2Real) -> fmi2Status;
+    fmi2SetRealInputDerivatives: fn(fmi2Component, *const fmi2ValueReference, usize,
+        *const fmi2Integer, *const fmi2Real) -> fmi2Status;
+    fmi2GetRealOutputDerivatives: fn(fmi2Component, *const fmi2ValueReference, usize,
+        *const fmi2Integer, *mut fmi2Real) -> fmi2Status;
+    fmi2DoStep: fn(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean) -> fmi2Status;
+    fmi2CancelStep: fn(fmi2Component) -> fmi2Status;
+    fmi2GetStatus: fn(fmi2Component, fmi2StatusKind, *mut fmi2Status) -> fmi2Status;
+    fmi2GetRealStatus: fn(fmi2Component, fmi2StatusKind, *mut fmi2Real) -> fmi2Status;
+    fmi2GetIntegerStatus: fn(fmi2Component, fmi2StatusKind, *mut fmi2Integer) -> fmi2Status;
+    fmi2GetBooleanStatus: fn(fmi2Component, fmi2StatusKind, *mut fmi2Boolean) -> fmi2Status;
+    fmi2GetStringStatus: fn(fmi2Component, fmi2StatusKind, *mut fmi2String) -> fmi2Status;
+}
+
+/// A folder removed when dropped.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new() -> Result<TempDir, ImportError> {
+        let base = std::env::temp_dir();
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        for k in 0..1000u32 {
+            let p = base.join(format!(
+                "vibrofric-fmu-{}-{nanos:x}-{k}",
+                std::process::id()
+            ));
+            match std::fs::create_dir(&p) {
+                Ok(()) => return Ok(TempDir(p)),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+                Err(e) => return err(format!("cannot create {}: {e}", p.display())),
+            }
+        }
+        err("cannot create a temporary folder")
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The platform folder of `binaries/` and the shared library suffix (FMI 2.0 names).
+pub fn platform() -> (&'static str, &'static str) {
+    if cfg!(target_os = "windows") {
+        (
+            if cfg!(target_pointer_width = "64") {
+                "win64"
+            } else {
+                "win32"
+            },
+            "dll",
+        )
+    } else if cfg!(target_os = "macos") {
+        ("darwin64", "dylib")
+    } else if cfg!(target_pointer_width = "64") {
+        ("linux64", "so")
+    } else {
+        ("linux32", "so")
+    }
+}
+
+/// What the importer reads from `modelDescription.xml`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Description {
+    pub fmi_version: String,
+    pub model_name: String,
+    pub guid: String,
+    /// `modelIdentifier` of the `CoSimulation` element.
+    pub model_identifier: String,
+    /// `(name, valueReference)` of every `ScalarVariable`.
+    pub variables: Vec<(String, u32)>,
+}
+
+impl Description {
+    /// Parses the attributes the importer needs.
+    pub fn parse(xml: &str) -> Result<Description, ImportError> {
+        use quick_xml::events::Event;
+        let mut reader = quick_xml::Reader::from_str(xml);
+        let mut d = Description {
+            fmi_version: String::new(),
+            model_name: String::new(),
+            guid: String::new(),
+            model_identifier: String::new(),
+            variables: vec![],
+        };
+        let mut cs = false;
+        loop {
+            let ev = reader
+                .read_event()
+                .map_err(|e| ImportError(format!("modelDescription.xml: {e}")))?;
+            let e = match &ev {
+                Event::Start(e) | Event::Empty(e) => e,
+                Event::Eof => break,
+                _ => continue,
+            };
+            let attr = |name: &str| -> Result<Option<String>, ImportError> {
+                for a in e.attributes() {
+                    let a = a.map_err(|e| ImportError(format!("modelDescription.xml: {e}")))?;
+                    if a.key.as_ref() == name {
+                        let v = a
+                            .normalized_value(quick_xml::XmlVersion::default())
+                            .map_err(|e| ImportError(format!("modelDescription.xml: {e}")))?;
+                        return Ok(Some(v.into_owned()));
+                    }
+                }
+                Ok(None)
+            };
+            match e.name().as_ref() {
+                "fmiModelDescription" => {
+                    d.fmi_version = attr("fmiVersion")?.unwrap_or_default();
+                    d.model_name = attr("modelName")?.unwrap_or_default();
+                    d.guid = attr("guid")?.unwrap_or_default();
+                }
+                "CoSimulation" => {
+                    cs = true;
+                    d.model_identifier = attr("modelIdentifier")?.unwrap_or_default();
+                }
+                "ScalarVariable" => {
+                    let name = attr("name")?.unwrap_or_default();
+                    let vr = attr("valueReference")?
+                        .and_then(|v| v.parse().ok())
+                        .ok_or_else(|| {
+                            ImportError(format!("variable {name}: bad valueReference"))
+                        })?;
+                    d.variables.push((name, vr));
+                }
+                _ => {}
+            }
+        }
+        if d.fmi_version != "2.0" {
+            return err(format!(
+                "modelDescription.xml: fmiVersion = \"{}\", this importer reads FMI 2.0",
+                d.fmi_version
+            ));
+        }
+        if !cs || d.model_identifier.is_empty() {
+            return err("modelDescription.xml: no CoSimulation element with a modelIdentifier");
+        }
+        Ok(d)
+    }
+
+    /// The value reference of a variable.
+    pub fn vr(&self, name: &str) -> Option<u32> {
+        self.variables
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|&(_, vr)| vr)
+    }
+}
+
+/// A loaded FMU: its unpacked folder, model description and C functions.
+pub struct Fmu {
+    /// The unpacked FMU (the folder holding `modelDescription.xml`).
+    pub dir: PathBuf,
+    pub description: Description,
+    /// The raw C functions; valid while this `Fmu` lives.
+    pub functions: Functions,
+    _lib: Library,
+    _tmp: Option<TempDir>,
+}
+
+impl fmt::Debug for Fmu {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Fmu")
+            .field("dir", &self.dir)
+            .field("description", &self.description)
+            .finish()
+    }
+}
+
+/// Percent-encodes a path for a `file:` URI.
+fn file_uri(path: &Path) -> String {
+    let mut s = String::from("file://");
+    for b in path.to_string_lossy().bytes() {
+        if b.is_ascii_alphanumeric() || b"/-._~".contains(&b) {
+            s.push(b as char);
+        } else {
+            s.push_str(&format!("%{b:02X}"));
+        }
+    }
+    s
+}
+
+impl Fmu {
+    /// Loads an unpacked FMU folder, or a `.fmu` archive (unpacked into a temporary folder that
+    /// is removed when the `Fmu` is dropped).
+    pub fn load(path: &Path) -> Result<Fmu, ImportError> {
+        let (dir, tmp) = if path.is_dir() {
+            (path.to_path_buf(), None)
+        } else {
+            let file = std::fs::File::open(path)
+                .map_err(|e| ImportError(format!("cannot open {}: {e}", path.display())))?;
+            let mut zip = zip::ZipArchive::new(file).map_err(|e| {
+                ImportError(format!("{} is not a zip archive: {e}", path.display()))
+            })?;
+            let tmp = TempDir::new()?;
+            zip.extract(&tmp.0)
+                .map_err(|e| ImportError(format!("cannot unpack {}: {e}", path.display())))?;
+            (tmp.0.clone(), Some(tmp))
+        };
+        let md = dir.join("modelDescription.xml");
+        let xml = std::fs::read_to_string(&md)
+            .map_err(|e| ImportError(format!("cannot read {}: {e}", md.display())))?;
+        let description = Description::parse(&xml)?;
+        let (platform, ext) = platform();
+        let lib_path = dir
+            .join("binaries")
+            .join(platform)
+            .join(format!("{}.{ext}", description.model_identifier));
+        // SAFETY: loading a shared library runs its initialisers; an FMU's binary is trusted
+        // as any importer trusts it.
+        let lib = unsafe { Library::new(&lib_path) }
+            .map_err(|e| ImportError(format!("cannot load {}: {e}", lib_path.display())))?;
+        let functions = Functions::load(&lib)?;
+        Ok(Fmu {
+            dir,
+            description,
+            functions,
+            _lib: lib,
+            _tmp: tmp,
+        })
+    }
+
+    /// The `file:` URI of the FMU's `resources/` folder, with a trailing slash.
+    pub fn resource_uri(&self) -> String {
+        let mut u = file_uri(&self.dir.join("resources"));
+        u.push('/');
+        u
+    }
+
+    /// `fmi2GetVersion`.
+    pub fn version(&self) -> String {
+        // SAFETY: returns a static C string.
+        unsafe { cstr((self.functions.fmi2GetVersion)()) }
+    }
+
+    /// `fmi2GetTypesPlatform`.
+    pub fn types_platform(&self) -> String {
+        // SAFETY: returns a static C string.
+        unsafe { cstr((self.functions.fmi2GetTypesPlatform)()) }
+    }
+
+    /// Instantiates as Co-Simulation slave with the model description's GUID and the FMU's
+    /// resources, debug logging off (errors are logged anyway).
+    pub fn instantiate(&self, name: &str) -> Result<Instance<'_>, ImportError> {
+        let guid = self.description.guid.clone();
+        let uri = self.resource_uri();
+        let (inst, log) =
+            self.instantiate_with(name, fmi2CoSimulation, Some(&guid), Some(&uri), false);
+        inst.ok_or_else(|| {
+            let msgs: Vec<String> = log.iter().map(|r| r.message.clone()).collect();
+            ImportError(format!("fmi2Instantiate failed: {}", msgs.join("; ")))
+        })
+    }
+
+    /// `fmi2Instantiate` with every argument chosen by the caller (`None` passes NULL). Returns
+    /// the instance, if any, and the messages logged during the call.
+    pub fn instantiate_with(
+        &self,
+        name: &str,
+        fmu_type: i32,
+        guid: Option<&str>,
+        resource_location: Option<&str>,
+        logging_on: bool,
+    ) -> (Option<Instance<'_>>, Vec<LogRecord>) {
+        let sink = Box::new(Sink {
+            records: Mutex::new(Vec::new()),
+        });
+        let callbacks = Box::new(fmi2CallbackFunctions {
+            logger: Some(logger_fn()),
+            allocateMemory: None,
+            freeMemory: None,
+            stepFinished: None,
+            componentEnvironment: &*sink as *const Sink as *mut c_void,
+        });
+        let name_c = CString::new(name).unwrap_or_default();
+        let guid_c = guid.map(|g| CString::new(g).unwrap_or_default());
+        let res_c = resource_location.map(|r| CString::new(r).unwrap_or_default());
+        let opt = |s: &Option<CString>| s.as_ref().map_or(ptr::null(), |s| s.as_ptr());
+        // SAFETY: every pointer is valid for the call; `callbacks` and `sink` are boxed and
+        // live as long as the instance (they move into it).
+        let c = unsafe {
+            (self.functions.fmi2Instantiate)(
+                name_c.as_ptr(),
+                fmu_type,
+                opt(&guid_c),
+                opt(&res_c),
+                &*callbacks,
+                fmi2False,
+                logging_on as fmi2Boolean,
+            )
+        };
+        if c.is_null() {
+            let log = sink.take();
+            return (None, log);
+        }
+        let log = sink.take();
+        (
+            Some(Instance {
+                fmu: self,
+                c,
+                sink,
+                _callbacks: callbacks,
+            }),
+            log,
+        )
+    }
+
+    /// Runs a default experiment: instantiate, set `inputs` (value reference, value) once,
+    /// step from 0 to `stop` with `step`, and return rows `[t, outputs...]` of the value
+    /// references `outputs` (first row at t = 0).
+    pub fn simulate(
+        &self,
+        stop: f64,
+        step: f64,
+        inputs: &[(u32, f64)],
+        outputs: &[u32],
+    ) -> Result<Vec<Vec<f64>>, ImportError> {
+        let mut inst = self.instantiate("simulate")?;
+        let check = |inst: &Instance, s: Status, what: &str| -> Result<(), ImportError> {
+            if s <= Status::Warning {
+                Ok(())
+            } else {
+                err(format!(
+                    "{what} returned {}: {}",
+                    s.name(),
+                    inst.last_message()
+                ))
+            }
+        };
+        let s = inst.setup_experiment(None, 0.0, Some(stop));
+        check(&inst, s, "fmi2SetupExperiment")?;
+        let s = inst.enter_initialization_mode();
+        check(&inst, s, "fmi2EnterInitializationMode")?;
+        let (vrs, vals): (Vec<u32>, Vec<f64>) = inputs.iter().copied().unzip();
+        let s = inst.set_real(&vrs, &vals);
+        check(&inst, s, "fmi2SetReal")?;
+        let s = inst.exit_initialization_mode();
+        check(&inst, s, "fmi2ExitInitializationMode")?;
+        let mut rows = Vec::new();
+        let mut t = 0.0;
+        let n = (stop / step).round().max(1.0) as u64;
+        for k in 0..=n {
+            let y = inst.get_real(outputs).map_err(|s| {
+                ImportError(format!(
+                    "fmi2GetReal returned {}: {}",
+                    s.name(),
+                    inst.last_message()
+                ))
+            })?;
+            let mut row = vec![t];
+            row.extend(y);
+            rows.push(row);
+            if k == n {
+                break;
+            }
+            let h = if k + 1 == n { stop - t } else { step };
+            let s = inst.do_step(t, h);
+            check(&inst, s, "fmi2DoStep")?;
+            t = if k + 1 == n { stop } else { t + h };
+        }
+        let s = inst.terminate();
+        check(&inst, s, "fmi2Terminate")?;
+        Ok(rows)
+    }
+}
+
+unsafe fn cstr(p: *const c_char) -> String {
+    if p.is_null() {
+        String::new()
+    } else {
+        CStr::from_ptr(p).to_string_lossy().into_owned()
+    }
+}
+
+/// Where the logger callback collects messages: the `componentEnvironment`.
+struct Sink {
+    records: Mutex<Vec<LogRecord>>,
+}
+
+impl Sink {
+    fn take(&self) -> Vec<LogRecord> {
+        std::mem::take(&mut *self.records.lock().unwrap_or_else(|e| e.into_inner()))
+    }
+}
+
+/// The logger, declared with the first variadic argument as a named parameter (see the module
+/// documentation).
+unsafe extern "C" fn collect(
+    env: fmi2ComponentEnvironment,
+    instance: fmi2String,
+    status_code: fmi2Status,
+    category: fmi2String,
+    format: fmi2String,
+    arg: *const c_char,
+) {
+    let Some(sink) = (env as *const Sink).as_ref() else {
+        return;
+    };
+    let format = cstr(format);
+    let message = if format == "%s" {
+        cstr(arg)
+    } else {
+        format.clone()
+    };
+    let rec = LogRecord {
+        instance: cstr(instance),
+        status: status(status_code),
+        category: cstr(category),
+        format,
+        message,
+    };
+    if let Ok(mut r) = sink.records.lock() {
+        r.push(rec);
+    }
+}
+
+fn logger_fn() -> fmi2CallbackLogger {
+    let f: unsafe extern "C" fn(
+        fmi2ComponentEnvironment,
+        fmi2String,
+        fmi2Status,
+        fmi2String,
+        fmi2String,
+        *const c_char,
+    ) = collect;
+    // SAFETY: on the supported ABIs (x86-64 System V, AArch64 Linux) a call through the
+    // variadic type passes the first variadic argument where `collect` expects `arg`; the
+    // other parameters are identical.
+    unsafe { std::mem::transmute::<_, fmi2CallbackLogger>(f) }
+}
+
+/// A saved FMU state (`fmi2FMUstate`), to be freed with [`Instance::free_state`].
+#[derive(Debug)]
+pub struct State(fmi2FMUstate);
+
+impl State {
+    /// The raw pointer, for tests of the C interface.
+    pub fn raw(&self) -> fmi2FMUstate {
+        self.0
+    }
+}
+
+/// One FMU instance; `fmi2FreeInstance` is called on drop.
+pub struct Instance<'a> {
+    fmu: &'a Fmu,
+    c: fmi2Component,
+    sink: Box<Sink>,
+    _callbacks: Box<fmi2CallbackFunctions>,
+}
+
+// SAFETY: FMI 2.0 lets an instance be called from any thread, one call at a time, which `&mut`
+// and `Send` (without `Sync`) enforce; the sink is behind a mutex.
+unsafe impl Send for Instance<'_> {}
+
+impl Drop for Instance<'_> {
+    fn drop(&mut self) {
+        // SAFETY: `c` came from fmi2Instantiate of this FMU and is freed once.
+        unsafe { (self.fmu.functions.fmi2FreeInstance)(self.c) }
+    }
+}
+
+impl Instance<'_> {
+    /// The raw component, for tests of the C interface.
+    pub fn raw(&self) -> fmi2Component {
+        self.c
+    }
+
+    pub fn functions(&self) -> &Functions {
+        &self.fmu.functions
+    }
+
+    /// Messages logged since the last call (and takes them).
+    pub fn take_messages(&self) -> Vec<LogRecord> {
+        self.sink.take()
+    }
+
+    /// The text of the last message logged (kept), or "" when none.
+    pub fn last_message(&self) -> String {
+        let r = self.sink.records.lock().unwrap_or_else(|e| e.into_inner());
+        r.last().map(|r| r.message.clone()).unwrap_or_default()
+    }
+
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[&str]) -> Status {
+        let cs: Vec<CString> = categories
+            .iter()
+            .map(|c| CString::new(*c).unwrap_or_default())
+            .collect();
+        let ps: Vec<fmi2String> = cs.iter().map(|c| c.as_ptr()).collect();
+        // SAFETY: `ps` holds `ps.len()` valid C strings for the duration of the call.
+        status(unsafe {
+            (self.fmu.functions.fmi2SetDebugLogging)(
+                self.c,
+                on as fmi2Boolean,
+                ps.len(),
+                ps.as_ptr(),
+            )
+        })
+    }
+
+    pub fn setup_experiment(
+        &mut self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Status {
+        // SAFETY: plain values.
+        status(unsafe {
+            (self.fmu.functions.fmi2SetupExperiment)(
+                self.c,
+                tolerance.is_some() as fmi2Boolean,
+                tolerance.unwrap_or(0.0),
+                start,
+                stop.is_some() as fmi2Boolean,
+                stop.unwrap_or(0.0),
+            )
+        })
+    }
+
+    pub fn enter_initialization_mode(&mut self) -> Status {
+        // SAFETY: valid component.
+        status(unsafe { (self.fmu.functions.fmi2EnterInitializationMode)(self.c) })
+    }
+
+    pub fn exit_initialization_mode(&mut self) -> Status {
+        // SAFETY: valid component.
+        status(unsafe { (self.fmu.functions.fmi2ExitInitializationMode)(self.c) })
+    }
+
+    pub fn terminate(&mut self) -> Status {
+        // SAFETY: valid component.
+        status(unsafe { (self.fmu.functions.fmi2Terminate)(self.c) })
+    }
+
+    pub fn reset(&mut self) -> Status {
+        // SAFETY: valid component.
+        status(unsafe { (self.fmu.functions.fmi2Reset)(self.c) })
+    }
+
+    /// `fmi2SetReal`; `vrs` and `values` must have the same length.
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> Status {
+        assert_eq!(vrs.len(), values.len(), "set_real: one value per reference");
+        // SAFETY: both arrays hold `vrs.len()` elements.
+        status(unsafe {
+            (self.fmu.functions.fmi2SetReal)(self.c, vrs.as_ptr(), vrs.len(), values.as_ptr())
+        })
+    }
+
+    /// `fmi2GetReal`.
+    pub fn get_real(&mut self, vrs: &[u32]) -> Result<Vec<f64>, Status> {
+        let mut out = vec![0.0; vrs.len()];
+        // SAFETY: both arrays hold `vrs.len()` elements.
+        let s = status(unsafe {
+            (self.fmu.functions.fmi2GetReal)(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr())
+        });
+        if s <= Status::Warning {
+            Ok(out)
+        } else {
+            Err(s)
+        }
+    }
+
+    /// `fmi2SetRealInputDerivatives`.
+    pub fn set_real_input_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Status {
+        assert!(vrs.len() == orders.len() && vrs.len() == values.len());
+        // SAFETY: the three arrays hold `vrs.len()` elements.
+        status(unsafe {
+            (self.fmu.functions.fmi2SetRealInputDerivatives)(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                orders.as_ptr() as *const c_int,
+                values.as_ptr(),
+            )
+        })
+    }
+
+    /// `fmi2DoStep` (with `noSetFMUStatePriorToCurrentPoint` false).
+    pub fn do_step(&mut self, current: f64, step: f64) -> Status {
+        // SAFETY: plain values.
+        status(unsafe { (self.fmu.functions.fmi2DoStep)(self.c, current, step, fmi2False) })
+    }
+
+    /// `fmi2GetRealStatus`.
+    pub fn get_real_status(&mut self, kind: i32) -> (Status, f64) {
+        let mut v = 0.0;
+        // SAFETY: `v` is a valid out-pointer.
+        let s = status(unsafe { (self.fmu.functions.fmi2GetRealStatus)(self.c, kind, &mut v) });
+        (s, v)
+    }
+
+    /// `fmi2GetBooleanStatus`.
+    pub fn get_boolean_status(&mut self, kind: i32) -> (Status, bool) {
+        let mut v = 0;
+        // SAFETY: `v` is a valid out-pointer.
+        let s = status(unsafe { (self.fmu.functions.fmi2GetBooleanStatus)(self.c, kind, &mut v) });
+        (s, v != 0)
+    }
+
+    /// `fmi2GetFMUstate` into a new state.
+    pub fn get_state(&mut self) -> Result<State, Status> {
+        let mut p: fmi2FMUstate = ptr::null_mut();
+        // SAFETY: `p` is a valid out-pointer holding NULL (a new state).
+        let s = status(unsafe { (self.fmu.functions.fmi2GetFMUstate)(self.c, &mut p) });
+        if s <= Status::Warning && !p.is_null() {
+            Ok(State(p))
+        } else {
+            Err(s.max(Status::Error))
+        }
+    }
+
+    /// `fmi2GetFMUstate` into an existing state (the FMU may reuse its memory).
+    pub fn update_state(&mut self, state: &mut State) -> Status {
+        // SAFETY: `state.0` is a state this FMU returned.
+        status(unsafe { (self.fmu.functions.fmi2GetFMUstate)(self.c, &mut state.0) })
+    }
+
+    /// `fmi2SetFMUstate`.
+    pub fn set_state(&mut self, state: &State) -> Status {
+        // SAFETY: `state.0` is a state this FMU returned.
+        status(unsafe { (self.fmu.functions.fmi2SetFMUstate)(self.c, state.0) })
+    }
+
+    /// `fmi2FreeFMUstate`.
+    pub fn free_state(&mut self, mut state: State) -> Status {
+        // SAFETY: `state.0` is a state this FMU returned, freed once (it is consumed).
+        status(unsafe { (self.fmu.functions.fmi2FreeFMUstate)(self.c, &mut state.0) })
+    }
+
+    /// `fmi2SerializedFMUstateSize` and `fmi2SerializeFMUstate`.
+    pub fn serialize_state(&mut self, state: &State) -> Result<Vec<u8>, Status> {
+        let mut n = 0usize;
+        // SAFETY: `n` is a valid out-pointer; `state.0` a state of this FMU.
+        let s = status(unsafe {
+            (self.fmu.functions.fmi2SerializedFMUstateSize)(self.c, state.0, &mut n)
+        });
+        if s > Status::Warning {
+            return Err(s);
+        }
+        let mut buf = vec![0u8; n];
+        // SAFETY: `buf` holds `n` bytes.
+        let s = status(unsafe {
+            (self.fmu.functions.fmi2SerializeFMUstate)(
+                self.c,
+                state.0,
+                buf.as_mut_ptr() as *mut fmi2Byte,
+                n,
+            )
+        });
+        if s > Status::Warning {
+            return Err(s);
+        }
+        Ok(buf)
+    }
+
+    /// `fmi2DeSerializeFMUstate` into a new state.
+    pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<State, Status> {
+        let mut p: fmi2FMUstate = ptr::null_mut();
+        // SAFETY: `bytes` holds `bytes.len()` bytes; `p` is a valid out-pointer.
+        let s = status(unsafe {
+            (self.fmu.functions.fmi2DeSerializeFMUstate)(
+                self.c,
+                bytes.as_ptr() as *const fmi2Byte,
+                bytes.len(),
+                &mut p,
+            )
+        });
+        if s <= Status::Warning && !p.is_null() {
+            Ok(State(p))
+        } else {
+            Err(s.max(Status::Error))
+        }
+    }
+}
