@@ -1,1 +1,303 @@
-fn main() {}
+//! `vibrofric`: exports scenes (SPEC §4) as FMI 2.0 Co-Simulation FMUs.
+//!
+//! - `vibrofric` with no arguments exports every `scenes/*.toml` into `dist/` and runs a one-line
+//!   self-check simulation of each.
+//! - `vibrofric export SCENE.toml... --out DIR` writes `DIR/<model_identifier>.fmu`.
+//! - `vibrofric export --write-descriptions modelDescription/` also refreshes the checked-in
+//!   model descriptions.
+//!
+//! An FMU holds `modelDescription.xml`, `binaries/<platform>/<model_identifier>.<ext>` (a copy of
+//! the one `libvibrofric` cdylib, which reads the scene from `resources/` at instantiation),
+//! `documentation/index.html` and `resources/scene.toml`.
+
+use std::fs::File;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use zip::write::SimpleFileOptions;
+use zip::{CompressionMethod, DateTime, ZipWriter};
+
+use vibrofric::description::variables::Causality;
+use vibrofric::description::{docs, xml, Scene};
+use vibrofric::model::{self, InputId};
+
+/// FMI 2.0 platform directory of this build.
+const PLATFORM: &str = if cfg!(target_os = "windows") {
+    "win64"
+} else if cfg!(target_os = "macos") {
+    "darwin64"
+} else {
+    "linux64"
+};
+
+/// Shared-library extension of this build.
+const LIB_EXT: &str = if cfg!(target_os = "windows") {
+    "dll"
+} else if cfg!(target_os = "macos") {
+    "dylib"
+} else {
+    "so"
+};
+
+/// File name of the cdylib cargo builds beside the binary.
+const LIB_FILE: &str = if cfg!(target_os = "windows") {
+    "vibrofric.dll"
+} else if cfg!(target_os = "macos") {
+    "libvibrofric.dylib"
+} else {
+    "libvibrofric.so"
+};
+
+/// Scene directory and FMU directory of the no-argument run.
+const SCENES_DIR: &str = "scenes";
+const DIST_DIR: &str = "dist";
+
+#[derive(Parser)]
+#[command(
+    name = "vibrofric",
+    version,
+    about = "Exports friction-contact scenes as FMI 2.0 Co-Simulation FMUs.",
+    long_about = "Exports friction-contact scenes as FMI 2.0 Co-Simulation FMUs.\n\n\
+        Without arguments: export every scenes/*.toml into dist/ and run a short self-check \
+        simulation of each."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Write DIR/<model_identifier>.fmu for each scene.
+    Export {
+        /// Scene files (default: every scenes/*.toml).
+        scenes: Vec<PathBuf>,
+        /// Directory for the FMUs.
+        #[arg(long, value_name = "DIR", default_value = DIST_DIR)]
+        out: PathBuf,
+        /// Also write DIR/<model_identifier>.xml (refreshes the checked-in modelDescription/).
+        #[arg(long, value_name = "DIR")]
+        write_descriptions: Option<PathBuf>,
+        /// The FMU's shared library (default: the libvibrofric cdylib next to this executable).
+        #[arg(long, value_name = "FILE")]
+        library: Option<PathBuf>,
+        /// Run a short self-check simulation of each exported FMU.
+        #[arg(long)]
+        check: bool,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => export(&[], Path::new(DIST_DIR), None, None, true),
+        Some(Command::Export {
+            scenes,
+            out,
+            write_descriptions,
+            library,
+            check,
+        }) => export(
+            &scenes,
+            &out,
+            write_descriptions.as_deref(),
+            library.as_deref(),
+            check,
+        ),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("vibrofric: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Every `*.toml` in `dir`, sorted.
+fn standard_scenes(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let entries = std::fs::read_dir(dir)
+        .map_err(|e| format!("{}: cannot list scenes: {e}", dir.display()))?;
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(format!("{}: no *.toml scene files", dir.display()));
+    }
+    Ok(files)
+}
+
+/// The cdylib to ship: `--library`, else `libvibrofric` in the executable's directory or its
+/// parent (for executables cargo places in `deps/`).
+fn find_library(explicit: Option<&Path>) -> Result<PathBuf, String> {
+    if let Some(p) = explicit {
+        return if p.is_file() {
+            Ok(p.to_path_buf())
+        } else {
+            Err(format!("--library {}: no such file", p.display()))
+        };
+    }
+    let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
+    let dir = exe.parent().unwrap_or(Path::new("."));
+    let candidates = [Some(dir), dir.parent()];
+    for d in candidates.into_iter().flatten() {
+        let p = d.join(LIB_FILE);
+        if p.is_file() {
+            return Ok(p);
+        }
+    }
+    Err(format!(
+        "cannot find {LIB_FILE} next to {}: build it with `cargo build --release` (cargo builds \
+         the cdylib beside the binary) or pass --library FILE",
+        exe.display()
+    ))
+}
+
+fn export(
+    scene_files: &[PathBuf],
+    out: &Path,
+    descriptions: Option<&Path>,
+    library: Option<&Path>,
+    check: bool,
+) -> Result<(), String> {
+    let files = if scene_files.is_empty() {
+        standard_scenes(Path::new(SCENES_DIR))?
+    } else {
+        scene_files.to_vec()
+    };
+    // Read every scene before writing anything: one bad scene exports nothing.
+    let mut scenes: Vec<(PathBuf, Scene)> = vec![];
+    for f in &files {
+        let s = Scene::load(f).map_err(|e| e.to_string())?;
+        if let Some((other, _)) = scenes
+            .iter()
+            .find(|(_, o)| o.model_identifier == s.model_identifier)
+        {
+            return Err(format!(
+                "{}: model_identifier = \"{}\": already used by {}; each FMU needs its own",
+                f.display(),
+                s.model_identifier,
+                other.display()
+            ));
+        }
+        scenes.push((f.clone(), s));
+    }
+    let lib_path = find_library(library)?;
+    let lib = std::fs::read(&lib_path)
+        .map_err(|e| format!("{}: cannot read: {e}", lib_path.display()))?;
+
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    if let Some(d) = descriptions {
+        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
+    for (file, scene) in &scenes {
+        let fmu = out.join(format!("{}.fmu", scene.model_identifier));
+        let description = xml::model_description(scene);
+        write_fmu(&fmu, scene, &description, &lib)?;
+        let n_vars = scene.variables().count();
+        let n_out = scene
+            .variables()
+            .filter(|v| v.causality(&scene.config) == Causality::Output)
+            .count();
+        let size = std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0);
+        println!(
+            "{} -> {} ({n_vars} variables, {n_out} outputs, {:.1} MB, GUID {})",
+            file.display(),
+            fmu.display(),
+            size as f64 / 1e6,
+            xml::guid(scene)
+        );
+        if let Some(d) = descriptions {
+            let p = d.join(format!("{}.xml", scene.model_identifier));
+            std::fs::write(&p, &description).map_err(|e| format!("{}: {e}", p.display()))?;
+            println!("  wrote {}", p.display());
+        }
+        if check {
+            match self_check(&fmu, scene) {
+                Ok(line) => println!("  self-check: {line}"),
+                Err(e) => return Err(format!("{}: self-check failed: {e}", fmu.display())),
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Writes the FMU archive (to a temporary name first, so that a failed export leaves no
+/// half-written FMU behind).
+fn write_fmu(path: &Path, scene: &Scene, description: &str, lib: &[u8]) -> Result<(), String> {
+    let tmp = path.with_extension("fmu.partial");
+    let io = |e: std::io::Error| format!("{}: {e}", tmp.display());
+    let zerr = |e: zip::result::ZipError| format!("{}: {e}", tmp.display());
+    let file = File::create(&tmp).map_err(io)?;
+    let mut zip = ZipWriter::new(file);
+    // A fixed time stamp keeps the archive a function of its content.
+    let opts = SimpleFileOptions::default()
+        .compression_method(CompressionMethod::Deflated)
+        .last_modified_time(DateTime::default())
+        .unix_permissions(0o644);
+    let id = &scene.model_identifier;
+    let doc = docs::index_html(scene);
+    let entries: [(String, &[u8], u32); 4] = [
+        ("modelDescription.xml".into(), description.as_bytes(), 0o644),
+        (format!("binaries/{PLATFORM}/{id}.{LIB_EXT}"), lib, 0o755),
+        ("documentation/index.html".into(), doc.as_bytes(), 0o644),
+        (
+            "resources/scene.toml".into(),
+            scene.source.as_bytes(),
+            0o644,
+        ),
+    ];
+    for (name, bytes, mode) in entries {
+        zip.start_file(name, opts.unix_permissions(mode))
+            .map_err(zerr)?;
+        zip.write_all(bytes).map_err(io)?;
+    }
+    zip.finish().map_err(zerr)?;
+    std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(())
+}
+
+/// A short simulation of the default experiment's length (0.1 s, communication step 1e-3 s) with
+/// the scene's start values; returns the line to print.
+///
+/// TODO(lead): run this through the exported library (unpack `fmu`, load it with
+/// `vibrofric::importer`, instantiate with the GUID, set the start inputs, `fmi2DoStep` to the
+/// end, read `F_mean`/`reduction`) and compare with the core run below. Until the importer
+/// exists, it steps the core (`model::build`) directly with the FMU's scene.
+fn self_check(fmu: &Path, scene: &Scene) -> Result<String, String> {
+    let _ = fmu;
+    let (t0, t1, tol, step) = xml::DEFAULT_EXPERIMENT;
+    let mut sim = model::build(scene.config, scene.start, t0, tol).map_err(|e| e.to_string())?;
+    for i in InputId::ALL {
+        if i.present(&scene.config) {
+            sim.set_input(i, i.get(&scene.inputs))
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    let n = ((t1 - t0) / step).round() as usize;
+    let clock = std::time::Instant::now();
+    for k in 1..=n {
+        sim.step_to(t0 + k as f64 * step)
+            .map_err(|e| e.to_string())?;
+    }
+    let elapsed = clock.elapsed().as_secs_f64();
+    let o = sim.outputs();
+    if !(o.f_mean.is_finite() && o.reduction.is_finite()) {
+        return Err(format!(
+            "non-finite result: F_mean = {}, reduction = {}",
+            o.f_mean, o.reduction
+        ));
+    }
+    Ok(format!(
+        "F_mean = {:.4} N, reduction = {:.4} at t = {} s ({n} steps of {} s, {:.0} ms, core)",
+        o.f_mean,
+        o.reduction,
+        t1,
+        step,
+        elapsed * 1e3
+    ))
+}
