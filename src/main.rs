@@ -21,6 +21,7 @@ use zip::{CompressionMethod, DateTime, ZipWriter};
 
 use vibrofric::description::variables::Causality;
 use vibrofric::description::{docs, xml, Scene};
+use vibrofric::importer::Fmu;
 use vibrofric::model::{self, InputId};
 
 /// FMI 2.0 platform directory of this build.
@@ -261,16 +262,41 @@ fn write_fmu(path: &Path, scene: &Scene, description: &str, lib: &[u8]) -> Resul
     Ok(())
 }
 
-/// A short simulation of the default experiment's length (0.1 s, communication step 1e-3 s) with
-/// the scene's start values; returns the line to print.
-///
-/// TODO(lead): run this through the exported library (unpack `fmu`, load it with
-/// `vibrofric::importer`, instantiate with the GUID, set the start inputs, `fmi2DoStep` to the
-/// end, read `F_mean`/`reduction`) and compare with the core run below. Until the importer
-/// exists, it steps the core (`model::build`) directly with the FMU's scene.
-fn self_check(fmu: &Path, scene: &Scene) -> Result<String, String> {
-    let _ = fmu;
+/// A short simulation through the exported FMU: load the archive with the crate's importer
+/// (unpacks it, loads `binaries/<platform>/<model_identifier>.so`, instantiates with the GUID of
+/// its model description and its `resources/`), run the default experiment (0.1 s, communication
+/// step 1e-3 s) with the scene's start values, and compare `F_mean` and `reduction` with the same
+/// steps taken by the core library directly. Returns the line to print.
+fn self_check(fmu_path: &Path, scene: &Scene) -> Result<String, String> {
     let (t0, t1, tol, step) = xml::DEFAULT_EXPERIMENT;
+    let clock = std::time::Instant::now();
+    let fmu = Fmu::load(fmu_path).map_err(|e| e.to_string())?;
+    if fmu.description.guid != xml::guid(scene) {
+        return Err(format!(
+            "the archive's GUID {} is not the scene's {}",
+            fmu.description.guid,
+            xml::guid(scene)
+        ));
+    }
+    let vr = |name: &str| {
+        fmu.description
+            .vr(name)
+            .ok_or_else(|| format!("the FMU has no variable {name}"))
+    };
+    let outputs = [vr("F_mean")?, vr("reduction")?];
+    let rows = fmu
+        .simulate(t1 - t0, step, &[], &outputs)
+        .map_err(|e| e.to_string())?;
+    let elapsed = clock.elapsed().as_secs_f64();
+    let last = rows.last().ok_or("the simulation returned no rows")?;
+    let (f_mean, reduction) = (last[1], last[2]);
+    if !(f_mean.is_finite() && reduction.is_finite()) {
+        return Err(format!(
+            "non-finite result: F_mean = {f_mean}, reduction = {reduction}"
+        ));
+    }
+
+    // The same communication points through the core (as `Fmu::simulate` steps them).
     let mut sim = model::build(scene.config, scene.start, t0, tol).map_err(|e| e.to_string())?;
     for i in InputId::ALL {
         if i.present(&scene.config) {
@@ -278,26 +304,29 @@ fn self_check(fmu: &Path, scene: &Scene) -> Result<String, String> {
                 .map_err(|e| e.to_string())?;
         }
     }
-    let n = ((t1 - t0) / step).round() as usize;
-    let clock = std::time::Instant::now();
-    for k in 1..=n {
-        sim.step_to(t0 + k as f64 * step)
-            .map_err(|e| e.to_string())?;
+    let n = ((t1 - t0) / step).round().max(1.0) as u64;
+    let mut t = t0;
+    for k in 0..n {
+        t = if k + 1 == n { t1 } else { t + step };
+        sim.step_to(t).map_err(|e| e.to_string())?;
     }
-    let elapsed = clock.elapsed().as_secs_f64();
-    let o = sim.outputs();
-    if !(o.f_mean.is_finite() && o.reduction.is_finite()) {
+    let core = sim.outputs();
+    let diff = (f_mean - core.f_mean).abs();
+    // Both run the same code with the same tolerance: anything beyond rounding is a fault.
+    let scale = scene.start.f_c().max(f_mean.abs()).max(1e-12);
+    if diff > 1e-9 * scale {
         return Err(format!(
-            "non-finite result: F_mean = {}, reduction = {}",
-            o.f_mean, o.reduction
+            "F_mean = {f_mean} N through the FMU but {} N through the core",
+            core.f_mean
         ));
     }
+    let agreement = if diff == 0.0 {
+        "identical to the core".to_string()
+    } else {
+        format!("core differs by {diff:.1e} N")
+    };
     Ok(format!(
-        "F_mean = {:.4} N, reduction = {:.4} at t = {} s ({n} steps of {} s, {:.0} ms, core)",
-        o.f_mean,
-        o.reduction,
-        t1,
-        step,
+        "F_mean = {f_mean:.4} N, reduction = {reduction:.4} at t = {t1} s ({n} steps of {step} s through the FMU in {:.0} ms; {agreement})",
         elapsed * 1e3
     ))
 }
