@@ -644,3 +644,117 @@ fn documentation_lists_every_variable() {
         let _ = Path::new(&file);
     }
 }
+
+/// Values of every output of a scene, by value reference.
+fn output_values(s: &Scene, o: &vibrofric::model::Outputs) -> Vec<(u32, f64)> {
+    use vibrofric::description::variables::{Causality, VarKind};
+    use vibrofric::model::OutputId;
+    s.variables()
+        .filter(|v| v.causality(&s.config) == Causality::Output)
+        .map(|v| {
+            let id = match v.kind {
+                VarKind::Output(id) => id,
+                _ => OutputId::FDrive, // F_d as the spring drive's output
+            };
+            (v.vr, id.get(o))
+        })
+        .collect()
+}
+
+/// Other values of a variable (those that break its rule are skipped).
+fn perturbed(x: f64) -> [f64; 3] {
+    [x * 0.5 + 1e-4, x * 1.5 + 0.3, 0.0]
+}
+
+#[test]
+fn initial_unknown_dependencies_hold_in_the_core() {
+    use vibrofric::description::variables::{Causality, VarKind};
+    use vibrofric::model::build;
+    for (file, s) in scenes() {
+        let at_start = |params: vibrofric::physics::Params, inputs: vibrofric::model::Inputs| {
+            let mut sim = build(s.config, params, 0.0, 1e-6).unwrap();
+            for i in vibrofric::model::InputId::ALL {
+                if i.present(&s.config) {
+                    sim.set_input(i, i.get(&inputs)).unwrap();
+                }
+            }
+            output_values(&s, &sim.outputs())
+        };
+        let base = at_start(s.start, s.inputs);
+        for known in s.variables() {
+            if known.causality(&s.config) == Causality::Output {
+                continue;
+            }
+            for value in perturbed(s.start_of(known).unwrap()) {
+                let (mut params, mut inputs) = (s.start, s.inputs);
+                match known.kind {
+                    VarKind::Param(p) => {
+                        if p.set(&mut params, value).is_err() {
+                            continue;
+                        }
+                    }
+                    VarKind::Input(i) => *i.slot(&mut inputs) = value,
+                    VarKind::Output(_) => unreachable!(),
+                }
+                let changed = at_start(params, inputs);
+                for ((vr, a), (_, b)) in base.iter().zip(&changed) {
+                    if a.to_bits() == b.to_bits() {
+                        continue;
+                    }
+                    let out = VARIABLES.iter().find(|v| v.vr == *vr).unwrap();
+                    let deps = xml::initial_dependencies(out, &s.config);
+                    assert!(
+                        deps.contains(&known.kind),
+                        "{file}: at the start {} changes ({a} -> {b}) with {} = {value}, but InitialUnknowns does not list {}",
+                        out.name(),
+                        known.name(),
+                        known.name()
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn output_dependencies_hold_in_the_core() {
+    use vibrofric::description::variables::Causality;
+    use vibrofric::model::{build, InputId};
+    for (file, s) in scenes() {
+        let mut sim = build(s.config, s.start, 0.0, 1e-6).unwrap();
+        // Move away from the start: some deformation, some velocity.
+        for i in InputId::ALL {
+            if i.present(&s.config) {
+                let v = match i {
+                    InputId::FD => 3.0,
+                    InputId::VD => 1e-3,
+                    _ => 2e-4,
+                };
+                sim.set_input(i, v).unwrap();
+            }
+        }
+        sim.step_to(2.3e-4).unwrap();
+        let base = output_values(&s, &sim.outputs());
+        for i in InputId::ALL {
+            if !i.present(&s.config) {
+                continue;
+            }
+            let mut other = sim.clone_box();
+            other.set_input(i, i.get(&sim.inputs()) + 2.1e-3).unwrap();
+            let changed = output_values(&s, &other.outputs());
+            for ((vr, a), (_, b)) in base.iter().zip(&changed) {
+                if a.to_bits() == b.to_bits() {
+                    continue;
+                }
+                let out = VARIABLES.iter().find(|v| v.vr == *vr).unwrap();
+                assert_eq!(out.causality(&s.config), Causality::Output);
+                assert!(
+                    out.input_dependencies(&s.config).contains(&i),
+                    "{file}: {} changes at once with {} ({a} -> {b}) but ModelStructure/Outputs does not list it",
+                    out.name(),
+                    i.name()
+                );
+            }
+        }
+    }
+}

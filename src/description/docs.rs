@@ -44,7 +44,9 @@ fn start_html(scene: &Scene, v: &Variable) -> String {
             .find(|(u, du, _)| *u == v.unit && *du == d)
         {
             let shown = display_unit_html(v);
-            s.push_str(&format!(" ({} {shown})", xml::number(x * factor)));
+            // 12 significant digits hide the rounding of the conversion (2e-7 m = 0.2 µm).
+            let shown_value: f64 = format!("{:.11e}", x * factor).parse().unwrap_or(x * factor);
+            s.push_str(&format!(" ({} {shown})", xml::number(shown_value)));
         }
     }
     s
@@ -248,4 +250,25 @@ pub fn index_html(scene: &Scene) -> String {
     h.push_str(&format!("<pre>{}</pre>\n", escape(&scene.source)));
     h.push_str("</body>\n</html>\n");
     h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn page_shows_display_values_and_escapes_the_scene() {
+        let text = "# <b> & \"quotes\"\nmodel_identifier = \"T\"\nlaw = \"dupont\"\nmotion = \"planar\"\ndrive = \"velocity\"\nlateral = \"free\"\nsupport = [\"harmonic\"]\n[start]\nangle = 1.5707963267948966\n";
+        let scene = Scene::parse(text, "t.toml").unwrap();
+        let html = index_html(&scene);
+        assert!(html.contains("2e-7 (0.2 µm)"), "{html}");
+        assert!(html.contains("1.5707963267948966 (90 deg)"));
+        assert!(html.contains("0.001 (1 mm/s)"), "v_d start");
+        assert!(html.contains("# &lt;b&gt; &amp; &quot;quotes&quot;"));
+        assert!(!html.contains("<b>"));
+        assert!(html.contains("Dupont elasto-plastic law"));
+        assert!(html.contains("<code>s·v_r ≤ 0</code>"));
+        assert!(html.contains("Lateral motion free"));
+        assert!(!html.contains("<script"));
+    }
 }
