@@ -13,6 +13,7 @@
 //! calls an FMU's C functions); everything else is safe Rust.
 #![deny(unsafe_code)]
 
+pub mod cli_simulate;
 pub mod description;
 pub mod fmi;
 #[allow(unsafe_code)]

@@ -457,7 +457,9 @@ fn instantiate_refuses_bad_arguments_with_a_log_line() {
     let res = fmu.resource_uri();
     let empty = temp("refuse-empty");
     let empty_uri = format!("file://{}/", empty.display());
-    let cases: Vec<(&str, i32, Option<&str>, Option<&str>, Vec<&str>)> = vec![
+    // (what, fmuType, fmuGUID, fmuResourceLocation, words of the log line)
+    type Case<'a> = (&'a str, i32, Option<&'a str>, Option<&'a str>, Vec<&'a str>);
+    let cases: Vec<Case> = vec![
         (
             "null resources",
             1,
