@@ -1,0 +1,55 @@
+"""Shared fixtures of the fmpy tests: the exported FMUs in dist/ and the core's reference runs.
+
+The reference is the core library called directly (`vibrofric::cli_simulate`, built as the
+`simulate` example), with the same communication points as fmpy's co-simulation loop, so that
+its numbers can be compared with the FMU's bit for bit.
+"""
+
+import csv
+import io
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+DIST = ROOT / "dist"
+SCENES = ROOT / "scenes"
+
+
+def target_dir():
+    return pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
+
+
+def simulate_exe():
+    exe = target_dir() / "release" / "examples" / "simulate"
+    if not exe.exists():
+        pytest.fail(f"{exe} is missing: run `cargo build --release --examples` (tests/all.sh does)")
+    return exe
+
+
+def fmu_path(name):
+    p = DIST / f"{name}.fmu"
+    if not p.exists():
+        pytest.fail(f"{p} is missing: run `cargo run --release` first (tests/all.sh does)")
+    return str(p)
+
+
+@pytest.fixture(scope="session")
+def default_fmu():
+    return fmu_path("VibratingContact")
+
+
+def core(scene, step, stop, sets=None, tolerance=None):
+    """Runs `scene` (a path) through the core; returns a dict of numpy arrays by column."""
+    args = [str(simulate_exe()), str(scene), "--step", repr(step), "--stop", repr(stop)]
+    if tolerance is not None:
+        args += ["--tolerance", repr(tolerance)]
+    for k, v in (sets or {}).items():
+        args += ["--set", f"{k}={v!r}"]
+    out = subprocess.run(args, check=True, capture_output=True, text=True).stdout
+    rows = list(csv.reader(io.StringIO(out)))
+    header, data = rows[0], np.array([[float(x) for x in r] for r in rows[1:]])
+    return {name: data[:, k] for k, name in enumerate(header)}
