@@ -671,3 +671,40 @@ fn reset_restarts_from_the_scene_start_values() {
     ok!(i, i.exit_initialization_mode());
     assert_eq!(run(&mut i, &vrs, 0, 5, 0.0, H), first);
 }
+
+#[test]
+fn the_importer_loads_a_packed_fmu_archive_and_removes_its_unpacked_copy() {
+    use std::io::Write;
+    let dir = temp("archive-src");
+    let scene = unpack(&dir, &scene_text("contact.toml"));
+    let fmu_file = temp("archive").join("VibratingContact.fmu");
+    let mut zip = zip::ZipWriter::new(std::fs::File::create(&fmu_file).unwrap());
+    let opts = zip::write::SimpleFileOptions::default();
+    let so = format!(
+        "binaries/{}/{}.{}",
+        vibrofric::importer::platform().0,
+        scene.model_identifier,
+        vibrofric::importer::platform().1
+    );
+    for (name, path) in [
+        ("modelDescription.xml", dir.join("modelDescription.xml")),
+        ("resources/scene.toml", dir.join("resources/scene.toml")),
+        (so.as_str(), library()),
+    ] {
+        zip.start_file(name, opts).unwrap();
+        zip.write_all(&std::fs::read(path).unwrap()).unwrap();
+    }
+    zip.finish().unwrap();
+
+    let fmu = vibrofric::importer::Fmu::load(&fmu_file).unwrap();
+    let unpacked = fmu.dir.clone();
+    assert!(unpacked.join("resources/scene.toml").is_file());
+    let rows = fmu
+        .simulate(0.01, 1e-3, &[(vr::F_D, 2.0)], &[vr::X, vr::F_MEAN])
+        .unwrap();
+    assert_eq!(rows.len(), 11);
+    assert_eq!(rows[10][0], 0.01);
+    assert!(rows[10][1] > 0.0, "pushed by F_d: x = {}", rows[10][1]);
+    drop(fmu);
+    assert!(!unpacked.exists(), "temporary folder removed");
+}
