@@ -708,3 +708,37 @@ fn the_importer_loads_a_packed_fmu_archive_and_removes_its_unpacked_copy() {
     drop(fmu);
     assert!(!unpacked.exists(), "temporary folder removed");
 }
+
+#[test]
+fn spring_drive_reports_f_d_as_an_output_equal_to_the_core() {
+    let fmu = load("rig-longitudinal.toml", "spring");
+    let scene = scene("rig-longitudinal.toml");
+    let vrs = all_vrs(&scene);
+    assert!(vrs.contains(&vr::F_D) && vrs.contains(&vr::V_D));
+    let mut i = started(&fmu, "rig", &[]);
+    let mut sim = core(&scene, scene.start, scene.inputs, 1e-6);
+    let mut inputs = scene.inputs;
+    let mut t = 0.0;
+    for k in 0..10 {
+        let v_d = 1e-3 * (1.0 + 0.1 * k as f64);
+        ok!(i, i.set_real(&[vr::V_D], &[v_d]));
+        sim.set_input(InputId::VD, v_d).unwrap();
+        inputs.v_d = v_d;
+        ok!(i, i.do_step(t, H));
+        sim.step_to(t + H).unwrap();
+        t += H;
+        assert_eq!(
+            bits(&i.get_real(&vrs).unwrap()),
+            bits(&core_values(&scene, sim.as_ref(), &inputs)),
+            "step {k}"
+        );
+    }
+    let f_d = i.get_real(&[vr::F_D]).unwrap()[0];
+    assert!(f_d != 0.0, "the spring pulls: F_d = {f_d}");
+    assert_eq!(i.set_real(&[vr::F_D], &[1.0]), Status::Error);
+    let msg = i.last_message();
+    assert!(
+        msg.contains("F_d (vr 101)") && msg.contains("causality output"),
+        "{msg}"
+    );
+}
