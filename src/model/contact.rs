@@ -11,7 +11,7 @@ use nalgebra::SVector;
 use super::simulator::{SimError, Simulator, StepStats};
 use super::{Config, InputId, Inputs, Outputs};
 use crate::physics::{FrictionLaw, Harmonic, InputTrack, ParamId, Params, Vector};
-use crate::solver::{OdeSystem, Radau5, Step, B, C, MAX_SWITCH};
+use crate::solver::{OdeSystem, Radau5, Step, MAX_SWITCH};
 
 /// Forces and motions the drive needs at one instant.
 #[derive(Clone, Copy, Debug)]
@@ -229,13 +229,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
         vs
     }
 
+    /// Everything at `(t, y)`, given the support velocity `vs` at `t`.
     #[inline(always)]
-    fn eval(&self, t: f64, y: &[f64], input_support: bool) -> Eval<V> {
+    fn eval(&self, t: f64, y: &[f64], vs: V) -> Eval<V> {
         let s = V::read(y);
         let body = &y[V::DIM..];
         let drive = self.drive_inputs(t);
         let v = self.drive.velocity(body, &drive);
-        let vr = v - self.support_velocity(t, input_support);
+        let vr = v - vs;
         let ds = self.law.rate(s, vr);
         let f = self.law.force(s, vr, ds);
         Eval {
@@ -249,11 +250,45 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
     }
 }
 
-/// The system the integrator sees: dynamics plus the run-time support flag.
+/// Number of support velocities a [`System`] remembers: the integrator evaluates the right-hand
+/// side, its Jacobian, the switching functions and the quadrature at the same three stage times.
+const SUPPORT_CACHE: usize = 4;
+
+/// The system the integrator sees during one call: dynamics, the run-time support flag, and a
+/// memo of the support velocity (one `cos` per distinct time instead of one per evaluation).
 struct System<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> {
     dynamics: &'a Dynamics<V, L, D>,
     input_support: bool,
     scale: &'a [f64],
+    cache: std::cell::Cell<([(f64, V); SUPPORT_CACHE], usize)>,
+}
+
+impl<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> System<'a, V, L, D> {
+    fn new(dynamics: &'a Dynamics<V, L, D>, input_support: bool, scale: &'a [f64]) -> Self {
+        System {
+            dynamics,
+            input_support,
+            scale,
+            cache: std::cell::Cell::new(([(f64::NAN, V::default()); SUPPORT_CACHE], 0)),
+        }
+    }
+
+    #[inline(always)]
+    fn support(&self, t: f64) -> V {
+        let (mut slots, next) = self.cache.get();
+        if let Some(&(_, v)) = slots.iter().find(|(ts, _)| *ts == t) {
+            return v;
+        }
+        let v = self.dynamics.support_velocity(t, self.input_support);
+        slots[next] = (t, v);
+        self.cache.set((slots, (next + 1) % SUPPORT_CACHE));
+        v
+    }
+
+    #[inline(always)]
+    fn eval(&self, t: f64, y: &[f64]) -> Eval<V> {
+        self.dynamics.eval(t, y, self.support(t))
+    }
 }
 
 impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
@@ -262,7 +297,7 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
     #[inline(always)]
     fn rhs(&self, t: f64, y: &SVector<f64, N>) -> SVector<f64, N> {
         let y = y.as_slice();
-        let e = self.dynamics.eval(t, y, self.input_support);
+        let e = self.eval(t, y);
         let mut out = SVector::<f64, N>::zeros();
         let o = out.as_mut_slice();
         e.ds.write(o);
@@ -290,12 +325,18 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
     /// and in planar Dupont the direction test `s·v_r`.
     #[inline(always)]
     fn switch(&self, t: f64, y: &SVector<f64, N>) -> [f64; MAX_SWITCH] {
-        let y = y.as_slice();
-        let d = self.dynamics;
-        let drive = d.drive_inputs(t);
-        let v = d.drive.velocity(&y[V::DIM..], &drive);
-        let vr = v - d.support_velocity(t, self.input_support);
-        [vr.x(), V::read(y).dot(vr)]
+        let e = self.eval(t, y.as_slice());
+        [e.vr.x(), e.s.dot(e.vr)]
+    }
+
+    /// `F_Fx`, whose integral over each window is the mean friction force.
+    #[inline(always)]
+    fn quadrature(&self, t: f64, y: &SVector<f64, N>) -> f64 {
+        self.eval(t, y.as_slice()).f.x()
+    }
+
+    fn quadrature_scale(&self) -> f64 {
+        self.dynamics.f_c.max(1e-300)
     }
 
     fn project(&self, y: &mut SVector<f64, N>) {
@@ -417,11 +458,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     fn system(&self) -> System<'_, V, L, D> {
-        System {
-            dynamics: &self.dynamics,
-            input_support: self.config.input_support,
-            scale: &self.scale,
-        }
+        System::new(&self.dynamics, self.config.input_support, &self.scale)
     }
 
     /// Longest step that cannot hide a pair of sign changes of `v_r` from the harmonic source.
@@ -433,11 +470,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     fn eval_now(&self) -> Eval<V> {
-        self.dynamics.eval(
-            self.radau.t,
-            self.radau.y.as_slice(),
-            self.config.input_support,
-        )
+        self.system().eval(self.radau.t, self.radau.y.as_slice())
     }
 
     fn track_index(&self, id: InputId) -> Result<usize, SimError> {
@@ -450,26 +483,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     /// Integrates to `t_target` (≤ the current window's end), accumulating `∫F_Fx dt`.
     fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
         let dynamics = self.dynamics;
-        let input_support = self.config.input_support;
-        let sys = System {
-            dynamics: &dynamics,
-            input_support,
-            scale: &self.scale,
-        };
+        let scale = self.scale;
+        let sys = System::new(&dynamics, self.config.input_support, &scale);
         let mut acc = 0.0;
         self.radau
-            .integrate(&sys, t_target, h_max, |step: &Step<N>| {
-                let mut q = 0.0;
-                for i in 0..3 {
-                    let e = dynamics.eval(
-                        step.t + C[i] * step.h,
-                        step.stages[i].as_slice(),
-                        input_support,
-                    );
-                    q += B[i] * e.f.x();
-                }
-                acc += step.h * q;
-            })
+            .integrate(&sys, t_target, h_max, |step: &Step<N>| acc += step.quad)
             .map_err(SimError::Solver)?;
         self.window.acc += acc;
         Ok(())

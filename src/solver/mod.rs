@@ -2,6 +2,10 @@
 //! dense output, located switching events and exact landing on requested times. It knows
 //! nothing of friction or of FMI: it integrates any [`OdeSystem`].
 
+// Numerical kernels index several arrays in lockstep (stages, Butcher rows, matrix entries);
+// index loops say that more plainly than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
 mod lu;
 mod radau;
 

@@ -1,0 +1,86 @@
+//! Issue-2 measurements: F_mean error against the exact solution and single-core run time of
+//! the paper-longitudinal configuration (Dahl, velocity drive, defaults, 1 s).
+//!
+//! cargo run --release --example core_bench
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::time::Instant;
+use vibrofric::model::{build, Config, Drive, Lateral, Law, Motion};
+use vibrofric::physics::Params;
+
+fn run(params: Params, tol: f64) -> (f64, f64, vibrofric::model::StepStats) {
+    let config = Config {
+        law: Law::Dahl,
+        motion: Motion::Longitudinal,
+        drive: Drive::Velocity,
+        lateral: Lateral::Guided,
+        harmonic: true,
+        input_support: false,
+    };
+    let mut best = f64::INFINITY;
+    let mut out = (0.0, Default::default());
+    for _ in 0..5 {
+        let start = Instant::now();
+        let mut sim = build(config, params, 0.0, tol).unwrap();
+        sim.set_input(vibrofric::model::InputId::VD, 1e-3).unwrap();
+        sim.step_to(1.0).unwrap();
+        let el = start.elapsed().as_secs_f64();
+        best = best.min(el);
+        out = (sim.outputs().f_mean, sim.stats());
+    }
+    (out.0, best, out.1)
+}
+
+fn main() {
+    let p = Params::default();
+    let exact = common::ExactDahl {
+        v_d: 1e-3,
+        u0: p.u0,
+        omega: p.omega(),
+        s_ss: p.f_c() / p.k_t,
+        k_t: p.k_t,
+    }
+    .f_mean_after_periods(2000);
+    println!(
+        "exact F_mean = {exact:.15} N  (F_mean/F_C = {:.12})",
+        exact / p.f_c()
+    );
+    println!(
+        "{:>8} {:>12} {:>10} {:>8} {:>8} {:>8}",
+        "tol", "rel.err", "time[ms]", "steps", "rejct", "events"
+    );
+    for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
+        let (fm, t, st) = run(p, tol);
+        println!(
+            "{tol:>8.0e} {:>12.3e} {:>10.3} {:>8} {:>8} {:>8}",
+            ((fm - exact) / exact).abs(),
+            t * 1e3,
+            st.steps,
+            st.rejected,
+            st.events
+        );
+    }
+    for k_t in [1e8, 1e10, 1e12] {
+        let mut q = p;
+        q.k_t = k_t;
+        let ex = common::ExactDahl {
+            v_d: 1e-3,
+            u0: q.u0,
+            omega: q.omega(),
+            s_ss: q.f_c() / k_t,
+            k_t,
+        }
+        .f_mean_after_periods(2000);
+        let (fm, t, st) = run(q, 1e-6);
+        println!(
+            "k_t={k_t:.0e} tol=1e-6: rel.err {:.3e} time {:.3} ms steps {} rejected {} events {}",
+            ((fm - ex) / ex).abs(),
+            t * 1e3,
+            st.steps,
+            st.rejected,
+            st.events
+        );
+    }
+}

@@ -1,0 +1,221 @@
+//! Independent truth for the tests: closed forms and reference integrations written here, not
+//! in the library. Nothing in this file calls the code under test.
+#![allow(dead_code, clippy::needless_range_loop)]
+
+use std::f64::consts::PI;
+
+/// Complete elliptic integral of the first kind `K(m)` in the parameter convention
+/// (`m = k²`), by the arithmetic–geometric mean: `K(m) = pi / (2·AGM(1, sqrt(1 − m)))`.
+pub fn ellip_k(m: f64) -> f64 {
+    let (mut a, mut b) = (1.0f64, (1.0 - m).sqrt());
+    for _ in 0..60 {
+        let (an, bn) = (0.5 * (a + b), (a * b).sqrt());
+        a = an;
+        b = bn;
+        if (a - b).abs() <= 1e-16 * a {
+            break;
+        }
+    }
+    PI / (2.0 * a)
+}
+
+/// Coulomb limit of `F_mean/F_C`, longitudinal vibration, velocity drive (SPEC §6).
+pub fn coulomb_longitudinal(psi: f64) -> f64 {
+    if psi < 1.0 {
+        2.0 / PI * psi.asin()
+    } else {
+        1.0
+    }
+}
+
+/// Coulomb limit of `F_mean/F_C`, transverse vibration, lateral guided (SPEC §6).
+pub fn coulomb_transverse(psi: f64) -> f64 {
+    let q = 1.0 / psi;
+    let q2 = q * q;
+    2.0 / PI * ellip_k(q2 / (1.0 + q2)) / (1.0 + q2).sqrt()
+}
+
+/// Adaptive Gauss–Kronrod (7/15) quadrature of `f` on `[a, b]` to absolute tolerance `tol`.
+pub fn integrate(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
+    const XK: [f64; 8] = [
+        0.991_455_371_120_812_6,
+        0.949_107_912_342_758_5,
+        0.864_864_423_359_769_1,
+        0.741_531_185_599_394_4,
+        0.586_087_235_467_691_1,
+        0.405_845_151_377_397_2,
+        0.207_784_955_007_898_5,
+        0.0,
+    ];
+    const WK: [f64; 8] = [
+        0.022_935_322_010_529_22,
+        0.063_092_092_629_978_55,
+        0.104_790_010_322_250_2,
+        0.140_653_259_715_525_9,
+        0.169_004_726_639_267_9,
+        0.190_350_578_064_785_4,
+        0.204_432_940_075_298_9,
+        0.209_482_141_084_727_8,
+    ];
+    const WG: [f64; 4] = [
+        0.129_484_966_168_869_7,
+        0.279_705_391_489_276_7,
+        0.381_830_050_505_118_9,
+        0.417_959_183_673_469_4,
+    ];
+    /// (Kronrod estimate, error estimate, Kronrod estimate of the integral of |f|)
+    fn gk(f: &dyn Fn(f64) -> f64, a: f64, b: f64) -> (f64, f64, f64) {
+        let c = 0.5 * (a + b);
+        let h = 0.5 * (b - a);
+        let fc = f(c);
+        let mut k = WK[7] * fc;
+        let mut kabs = WK[7] * fc.abs();
+        let mut g = WG[3] * fc;
+        for i in 0..7 {
+            let (f1, f2) = (f(c - h * XK[i]), f(c + h * XK[i]));
+            k += WK[i] * (f1 + f2);
+            kabs += WK[i] * (f1.abs() + f2.abs());
+            if i % 2 == 1 {
+                g += WG[i / 2] * (f1 + f2);
+            }
+        }
+        (k * h, ((k - g) * h).abs(), kabs * h.abs())
+    }
+    fn rec(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64, depth: u32) -> f64 {
+        let (k, e, kabs) = gk(f, a, b);
+        // Stop at the tolerance, or where the estimate is down to rounding of the sum.
+        if e <= tol || e <= 1e-13 * kabs || depth > 30 {
+            return k;
+        }
+        let m = 0.5 * (a + b);
+        rec(f, a, m, 0.5 * tol, depth + 1) + rec(f, m, b, 0.5 * tol, depth + 1)
+    }
+    rec(f, a, b, tol, 0)
+}
+
+/// Exact solution of the longitudinal Dahl contact (kappa = 1) under velocity drive with the
+/// harmonic source (phase 0), starting from `s = 0` at `t = 0`.
+///
+/// Dahl is rate-independent: between sign changes of `v_r = v_d − v_a·cos(omega·t)`, with
+/// `sigma = sgn(v_r)`, `w = 1 − sigma·s/s_ss` obeys `dw/dX = −sigma·w/s_ss` in the relative
+/// displacement `X(t) = v_d·t − u0·sin(omega·t)`, so `w(t) = w(t_k)·exp(−|X(t) − X(t_k)|/s_ss)`.
+pub struct ExactDahl {
+    pub v_d: f64,
+    pub u0: f64,
+    pub omega: f64,
+    pub s_ss: f64,
+    pub k_t: f64,
+}
+
+impl ExactDahl {
+    fn v_rel(&self, t: f64) -> f64 {
+        self.v_d - self.u0 * self.omega * (self.omega * t).cos()
+    }
+
+    /// Sign changes of `v_r` in `(a, b)`, sorted.
+    fn roots(&self, a: f64, b: f64) -> Vec<f64> {
+        let psi = self.v_d / (self.u0 * self.omega);
+        if psi.is_nan() || psi.abs() >= 1.0 {
+            return vec![];
+        }
+        let base = psi.acos(); // omega·t = ±base + 2·pi·n
+        let period = 2.0 * PI / self.omega;
+        let mut r = vec![];
+        let n0 = (a / period).floor() as i64 - 1;
+        let n1 = (b / period).ceil() as i64 + 1;
+        for n in n0..=n1 {
+            for th in [base, 2.0 * PI - base] {
+                let t = (th + 2.0 * PI * n as f64) / self.omega;
+                if t > a && t < b {
+                    r.push(t);
+                }
+            }
+        }
+        r.sort_by(|x, y| x.partial_cmp(y).unwrap());
+        r
+    }
+
+    /// Deformation at `t` given the deformation `s_a` at `a`, with no sign change of `v_r`
+    /// inside `(a, t)`.
+    fn s_piece(&self, a: f64, s_a: f64, t: f64) -> f64 {
+        let mid = 0.5 * (a + t);
+        let sigma = self.v_rel(mid).signum();
+        let w_a = 1.0 - sigma * s_a / self.s_ss;
+        // X(t) − X(a) in product form: accurate to rounding of the difference itself, where
+        // subtracting two values of X would lose it in the boundary layer.
+        let dx = (self.v_d * (t - a)
+            - 2.0
+                * self.u0
+                * (0.5 * self.omega * (t + a)).cos()
+                * (0.5 * self.omega * (t - a)).sin())
+        .abs();
+        sigma * self.s_ss * (1.0 - w_a * (-dx / self.s_ss).exp())
+    }
+
+    /// Deformation at `t1` and `∫ s dt` over `[t0, t1]` (0 when `quad_tol` is 0), from
+    /// `s(t0) = s0`.
+    pub fn advance(&self, t0: f64, s0: f64, t1: f64, quad_tol: f64) -> (f64, f64) {
+        let mut knots = vec![t0];
+        knots.extend(self.roots(t0, t1));
+        knots.push(t1);
+        let mut s = s0;
+        let mut integral = 0.0;
+        for w in knots.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let s_a = s;
+            let f = |t: f64| self.s_piece(a, s_a, t);
+            if quad_tol > 0.0 {
+                integral += integrate(&f, a, b, quad_tol);
+            }
+            s = self.s_piece(a, s_a, b);
+        }
+        (s, integral)
+    }
+
+    /// Exact mean friction force over the last of `n` whole periods after starting at `s = 0`
+    /// at `t = 0`. The forcing is periodic, so every period is computed in local time
+    /// `[0, 1/f]`, which keeps `ΔX/s_ss` free of the rounding of large phases; the truth's own
+    /// relative error is about 1e-13.
+    pub fn f_mean_after_periods(&self, n: usize) -> f64 {
+        let period = 2.0 * PI / self.omega;
+        let mut s = 0.0;
+        for _ in 1..n {
+            s = self.advance(0.0, s, period, 0.0).0;
+        }
+        let (_, integral) = self.advance(0.0, s, period, 1e-15 * self.s_ss * period);
+        self.k_t * integral / period
+    }
+}
+
+/// Classical fixed-step Runge–Kutta 4 on `dy/dt = f(t, y)`, `n` steps from `t0` to `t1`,
+/// calling `observe(t, y)` after each step.
+pub fn rk4<const N: usize>(
+    f: &dyn Fn(f64, &[f64; N]) -> [f64; N],
+    t0: f64,
+    y0: [f64; N],
+    t1: f64,
+    n: usize,
+    observe: &mut dyn FnMut(f64, &[f64; N]),
+) -> [f64; N] {
+    let h = (t1 - t0) / n as f64;
+    let mut y = y0;
+    let add = |y: &[f64; N], k: &[f64; N], c: f64| {
+        let mut r = *y;
+        for i in 0..N {
+            r[i] += c * k[i];
+        }
+        r
+    };
+    for i in 0..n {
+        let t = t0 + i as f64 * h;
+        let k1 = f(t, &y);
+        let k2 = f(t + 0.5 * h, &add(&y, &k1, 0.5 * h));
+        let k3 = f(t + 0.5 * h, &add(&y, &k2, 0.5 * h));
+        let k4 = f(t + h, &add(&y, &k3, h));
+        for j in 0..N {
+            y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+        }
+        observe(t + h, &y);
+    }
+    y
+}
