@@ -752,42 +752,46 @@ fn every_standard_scene_through_the_fmu_equals_the_core() {
         .collect();
     files.sort();
     assert!(files.len() >= 6, "{files:?}");
-    for file in &files {
-        let fmu = load(file, &format!("scene-{file}"));
-        let scene = scene(file);
-        let vrs = all_vrs(&scene);
-        let mut i = started(&fmu, file, &[]);
-        let mut sim = core(&scene, scene.start, scene.inputs, 1e-6);
-        let mut inputs = scene.inputs;
-        let mut t = 0.0;
-        for k in 0..6 {
-            let x = k as f64;
-            for (id, value) in [
-                (InputId::FD, drive(k)),
-                (InputId::VD, 1e-3 * (1.0 + 0.2 * x.sin())),
-                (InputId::VSx, 1e-4 * x.cos()),
-                (InputId::VSy, 5e-5 * x.sin()),
-            ] {
-                if id.present(&scene.config) {
-                    let vr = match id {
-                        InputId::FD => vr::F_D,
-                        InputId::VD => vr::V_D,
-                        InputId::VSx => vr::V_SX,
-                        InputId::VSy => vr::V_SY,
-                    };
-                    ok!(i, i.set_real(&[vr], &[value]));
-                    sim.set_input(id, value).unwrap();
-                    *id.slot(&mut inputs) = value;
+    for file in files {
+        let what = format!("{file} through the FMU");
+        within(60, &what, move || {
+            let file = file.as_str();
+            let fmu = load(file, &format!("scene-{file}"));
+            let scene = scene(file);
+            let vrs = all_vrs(&scene);
+            let mut i = started(&fmu, file, &[]);
+            let mut sim = core(&scene, scene.start, scene.inputs, 1e-6);
+            let mut inputs = scene.inputs;
+            let mut t = 0.0;
+            for k in 0..6 {
+                let x = k as f64;
+                for (id, value) in [
+                    (InputId::FD, drive(k)),
+                    (InputId::VD, 1e-3 * (1.0 + 0.2 * x.sin())),
+                    (InputId::VSx, 1e-4 * x.cos()),
+                    (InputId::VSy, 5e-5 * x.sin()),
+                ] {
+                    if id.present(&scene.config) {
+                        let vr = match id {
+                            InputId::FD => vr::F_D,
+                            InputId::VD => vr::V_D,
+                            InputId::VSx => vr::V_SX,
+                            InputId::VSy => vr::V_SY,
+                        };
+                        ok!(i, i.set_real(&[vr], &[value]));
+                        sim.set_input(id, value).unwrap();
+                        *id.slot(&mut inputs) = value;
+                    }
                 }
+                ok!(i, i.do_step(t, H));
+                sim.step_to(t + H).unwrap();
+                t += H;
+                assert_eq!(
+                    bits(&i.get_real(&vrs).unwrap()),
+                    bits(&core_values(&scene, sim.as_ref(), &inputs)),
+                    "{file}, step {k}"
+                );
             }
-            ok!(i, i.do_step(t, H));
-            sim.step_to(t + H).unwrap();
-            t += H;
-            assert_eq!(
-                bits(&i.get_real(&vrs).unwrap()),
-                bits(&core_values(&scene, sim.as_ref(), &inputs)),
-                "{file}, step {k}"
-            );
-        }
+        });
     }
 }

@@ -169,3 +169,21 @@ pub fn run(
     }
     rows
 }
+
+/// Runs `f` on its own thread and fails (instead of hanging the test run) when it has not
+/// finished after `secs` seconds; a stuck thread ends with the test process.
+pub fn within<T: Send + 'static>(
+    secs: u64,
+    what: &str,
+    f: impl FnOnce() -> T + Send + 'static,
+) -> T {
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)));
+    });
+    match rx.recv_timeout(std::time::Duration::from_secs(secs)) {
+        Ok(Ok(v)) => v,
+        Ok(Err(p)) => std::panic::resume_unwind(p),
+        Err(_) => panic!("{what}: not finished after {secs} s (the integrator stalls?)"),
+    }
+}
