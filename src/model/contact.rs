@@ -260,15 +260,22 @@ struct System<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> {
     dynamics: &'a Dynamics<V, L, D>,
     input_support: bool,
     scale: &'a [f64],
+    force_scale: f64,
     cache: std::cell::Cell<([(f64, V); SUPPORT_CACHE], usize)>,
 }
 
 impl<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> System<'a, V, L, D> {
-    fn new(dynamics: &'a Dynamics<V, L, D>, input_support: bool, scale: &'a [f64]) -> Self {
+    fn new(
+        dynamics: &'a Dynamics<V, L, D>,
+        input_support: bool,
+        scale: &'a [f64],
+        force_scale: f64,
+    ) -> Self {
         System {
             dynamics,
             input_support,
             scale,
+            force_scale,
             cache: std::cell::Cell::new(([(f64::NAN, V::default()); SUPPORT_CACHE], 0)),
         }
     }
@@ -336,7 +343,7 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
     }
 
     fn quadrature_scale(&self) -> f64 {
-        self.dynamics.f_c.max(1e-300)
+        self.force_scale
     }
 
     fn project(&self, y: &mut SVector<f64, N>) {
@@ -385,6 +392,8 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     dynamics: Dynamics<V, L, D>,
     /// Natural magnitudes of the state components.
     scale: [f64; N],
+    /// Natural magnitude of the friction force, for the error of its integral.
+    force_scale: f64,
     radau: Radau5<N>,
     window: Window,
 }
@@ -424,6 +433,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             params,
             dynamics,
             scale: [0.0; N],
+            force_scale: 0.0,
             radau: Radau5::new(t_start, SVector::zeros(), tolerance),
             window: Window {
                 origin: t_start,
@@ -452,13 +462,19 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let x_nom = s_nom.max(p.u0 * self.config.harmonic as u8 as f64);
         let v_nom = v_a.max(s_nom * (p.k_t / p.m).sqrt()).max(1e-9);
         self.scale[..V::DIM].fill(s_nom);
+        self.force_scale = (p.k_t * s_nom).max(p.h_v * v_nom).max(1e-300);
         self.dynamics
             .drive
             .scale(x_nom, v_nom, &mut self.scale[V::DIM..]);
     }
 
     fn system(&self) -> System<'_, V, L, D> {
-        System::new(&self.dynamics, self.config.input_support, &self.scale)
+        System::new(
+            &self.dynamics,
+            self.config.input_support,
+            &self.scale,
+            self.force_scale,
+        )
     }
 
     /// Longest step that cannot hide a pair of sign changes of `v_r` from the harmonic source.
@@ -484,7 +500,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
         let dynamics = self.dynamics;
         let scale = self.scale;
-        let sys = System::new(&dynamics, self.config.input_support, &scale);
+        let sys = System::new(
+            &dynamics,
+            self.config.input_support,
+            &scale,
+            self.force_scale,
+        );
         let mut acc = 0.0;
         self.radau
             .integrate(&sys, t_target, h_max, |step: &Step<N>| acc += step.quad)
