@@ -510,10 +510,10 @@ fn guids_differ_between_scenes_and_with_start_values() {
             assert_ne!(a, b);
         }
     }
-    // Same scene text, one start value changed.
+    // Same scene text, one start value changed (the scene already has a [start] table).
     let base = scene("contact.toml");
-    let mut text = base.source.clone();
-    text.push_str("\n[start]\nk_t = 2e8\n");
+    let text = base.source.replace("[start]", "[start]\nk_t = 2e8");
+    assert_ne!(text, base.source);
     let changed = Scene::parse(&text, "contact.toml").unwrap();
     assert_ne!(xml::guid(&base), xml::guid(&changed));
     // Deterministic.
