@@ -1,0 +1,112 @@
+//! Run time per simulated vibration period of every standard scene, and of pairs of
+//! configurations that differ in one choice only, to show what leaving things out saves.
+//! Single thread; the median of repeated runs of 0.1 s (200 periods at 2 kHz) at tolerance 1e-6.
+//!
+//! cargo run --release --example scene_bench
+
+use std::path::Path;
+use std::time::Instant;
+
+use vibrofric::description::scene::Scene;
+use vibrofric::model::{build, Config, Drive, InputId, Inputs, Lateral, Law, Motion, StepStats};
+use vibrofric::physics::Params;
+
+const RUNS: usize = 9;
+const T_END: f64 = 0.1;
+/// Nominal period for scenes without a harmonic source (the default 2 kHz).
+const NOMINAL_PERIOD: f64 = 5e-4;
+
+/// Median wall time of a run to `T_END` with communication step 1e-3 s, and its work counters.
+fn time_run(config: Config, params: Params, inputs: Inputs) -> (f64, StepStats) {
+    let mut times = Vec::with_capacity(RUNS);
+    let mut stats = StepStats::default();
+    for _ in 0..RUNS {
+        let start = Instant::now();
+        let mut sim = build(config, params, 0.0, 1e-6).unwrap();
+        for id in InputId::ALL {
+            if id.present(&config) {
+                sim.set_input(id, id.get(&inputs)).unwrap();
+            }
+        }
+        for k in 1..=100 {
+            sim.step_to(k as f64 * 1e-3).unwrap();
+        }
+        times.push(start.elapsed().as_secs_f64());
+        stats = sim.stats();
+    }
+    times.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    (times[RUNS / 2], stats)
+}
+
+fn row(name: &str, config: Config, params: Params, inputs: Inputs) -> f64 {
+    let period = if config.harmonic && params.f > 0.0 { 1.0 / params.f } else { NOMINAL_PERIOD };
+    let periods = T_END / period;
+    let (t, s) = time_run(config, params, inputs);
+    let per = t / periods * 1e6;
+    println!(
+        "| {name} | {per:.2} | {:.1} | {:.1} |",
+        s.steps as f64 / periods,
+        s.rhs_evals as f64 / periods
+    );
+    per
+}
+
+fn main() {
+    println!("Standard scenes (tolerance 1e-6, communication step 1 ms, median of {RUNS} runs of 0.1 s)\n");
+    println!("| scene | µs per period | steps per period | rhs evaluations per period |");
+    println!("|---|---|---|---|");
+    let mut paths: Vec<_> = std::fs::read_dir("scenes")
+        .expect("run from the repository root")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    paths.sort();
+    for p in &paths {
+        let scene = Scene::load(Path::new(p)).unwrap();
+        row(&scene.model_identifier, scene.config, scene.start, scene.inputs);
+    }
+
+    println!("\nWhat leaving things out saves: pairs that differ in one choice (velocity v_d = 1 mm/s or force F_d = 8 N, defaults otherwise)\n");
+    println!("| configuration | µs per period | steps per period | rhs evaluations per period |");
+    println!("|---|---|---|---|");
+    let base = Config {
+        law: Law::Dahl,
+        motion: Motion::Longitudinal,
+        drive: Drive::Velocity,
+        lateral: Lateral::Guided,
+        harmonic: true,
+        input_support: false,
+    };
+    let p = Params::default();
+    let vel = Inputs { v_d: 1e-3, ..Inputs::default() };
+    let force = Inputs { f_d: 8.0, ..Inputs::default() };
+    let a = row("Dahl, longitudinal, velocity", base, p, vel);
+    let b = row(
+        "Dahl, planar (angle 0: same motion), velocity guided",
+        Config { motion: Motion::Planar, ..base },
+        p,
+        vel,
+    );
+    println!("| planar / longitudinal | {:.2}× | | |", b / a);
+    let c = row(
+        "Dahl, longitudinal, force",
+        Config { drive: Drive::Force, ..base },
+        p,
+        force,
+    );
+    println!("| force / velocity drive | {:.2}× | | |", c / a);
+    let d = row("LuGre, longitudinal, velocity", Config { law: Law::LuGre, ..base }, p, vel);
+    println!("| LuGre / Dahl | {:.2}× | | |", d / a);
+    let e = row(
+        "Dahl, planar, force, harmonic + input support",
+        Config {
+            motion: Motion::Planar,
+            drive: Drive::Force,
+            input_support: true,
+            ..base
+        },
+        p,
+        force,
+    );
+    println!("| default contact / paper-longitudinal | {:.2}× | | |", e / a);
+}
