@@ -520,3 +520,80 @@ fn snapshot_restore_continues_bit_for_bit_in_a_fresh_simulator() {
         assert_eq!(format!("{before:?}"), format!("{:?}", b.outputs()));
     }
 }
+
+/// Longitudinal velocity drive of a law given by its rate and force, against RK4 over two
+/// periods: F_mean over the second period and F_Fx at the end.
+fn check_velocity_drive_against_rk4(
+    law: Law,
+    p: Params,
+    v_d: f64,
+    rate: impl Fn(f64, f64) -> f64 + Copy,
+    force: impl Fn(f64) -> f64 + Copy,
+) {
+    let (v_a, w) = (p.v_a(), p.omega());
+    let vr = move |t: f64| v_d - v_a * (w * t).cos();
+    let period = 1.0 / p.f;
+    let f1 = move |t: f64, y: &[f64; 1]| [rate(y[0], vr(t))];
+    let f2 = move |t: f64, y: &[f64; 2]| [rate(y[0], vr(t)), force(y[0])];
+    let run = |n: usize| {
+        let s1 = rk4(&f1, 0.0, [0.0], period, n, &mut |_, _| {})[0];
+        rk4(&f2, period, [s1, 0.0], 2.0 * period, n, &mut |_, _| {})
+    };
+    let (r1, r2) = (run(100_000), run(200_000));
+    let f_c = p.f_c();
+    assert!(
+        ((r1[1] - r2[1]) / period).abs() < 1e-8 * f_c,
+        "reference not converged"
+    );
+    let out = run_velocity(longitudinal_velocity(law), p, v_d, 2.0, 1e-9);
+    let f_mean_ref = r2[1] / period;
+    assert!(
+        (out.f_mean - f_mean_ref).abs() < 1e-6 * f_c,
+        "{law:?}: F_mean {} vs {f_mean_ref}",
+        out.f_mean
+    );
+    assert!(
+        (out.f_fx - force(r2[0])).abs() < 1e-5 * f_c,
+        "{law:?}: F_Fx {} vs {}",
+        out.f_fx,
+        force(r2[0])
+    );
+}
+
+#[test]
+fn dahl_with_exponent_matches_reference_runge_kutta() {
+    for kappa in [0.5, 2.0] {
+        let mut p = Params::default();
+        p.kappa = kappa;
+        let (s_ss, k_t) = (p.f_c() / p.k_t, p.k_t);
+        // ds/dt = v_r·|w|^kappa·sgn(w), w = 1 − sgn(v_r)·s/s_ss (SPEC §2)
+        let rate = move |s: f64, vr: f64| {
+            let w = 1.0 - vr.signum() * s / s_ss;
+            vr * w.abs().powf(kappa) * w.signum()
+        };
+        check_velocity_drive_against_rk4(Law::Dahl, p, 1e-3, rate, move |s| k_t * s);
+    }
+}
+
+#[test]
+fn dupont_matches_reference_runge_kutta() {
+    for r_ba in [0.0, 0.5, 0.9] {
+        let mut p = Params::default();
+        p.r_ba = r_ba;
+        let (s_ss, k_t) = (p.f_c() / p.k_t, p.k_t);
+        let s_ba = r_ba * s_ss;
+        // Dupont, Hayward, Armstrong, Altpeter (2002), written out with |s| and the direction test.
+        let rate = move |s: f64, vr: f64| {
+            let alpha = if s * vr <= 0.0 || s.abs() <= s_ba {
+                0.0
+            } else if s.abs() >= s_ss {
+                1.0
+            } else {
+                0.5 * (std::f64::consts::PI * (s.abs() - 0.5 * (s_ss + s_ba)) / (s_ss - s_ba)).sin()
+                    + 0.5
+            };
+            vr - alpha * vr.abs() * s / s_ss
+        };
+        check_velocity_drive_against_rk4(Law::Dupont, p, 1e-3, rate, move |s| k_t * s);
+    }
+}
