@@ -39,7 +39,11 @@ fn time_run(config: Config, params: Params, inputs: Inputs) -> (f64, StepStats) 
 }
 
 fn row(name: &str, config: Config, params: Params, inputs: Inputs) -> f64 {
-    let period = if config.harmonic && params.f > 0.0 { 1.0 / params.f } else { NOMINAL_PERIOD };
+    let period = if config.harmonic && params.f > 0.0 {
+        1.0 / params.f
+    } else {
+        NOMINAL_PERIOD
+    };
     let periods = T_END / period;
     let (t, s) = time_run(config, params, inputs);
     let per = t / periods * 1e6;
@@ -63,7 +67,12 @@ fn main() {
     paths.sort();
     for p in &paths {
         let scene = Scene::load(Path::new(p)).unwrap();
-        row(&scene.model_identifier, scene.config, scene.start, scene.inputs);
+        row(
+            &scene.model_identifier,
+            scene.config,
+            scene.start,
+            scene.inputs,
+        );
     }
 
     println!("\nWhat leaving things out saves: pairs that differ in one choice (velocity v_d = 1 mm/s or force F_d = 8 N, defaults otherwise)\n");
@@ -78,24 +87,44 @@ fn main() {
         input_support: false,
     };
     let p = Params::default();
-    let vel = Inputs { v_d: 1e-3, ..Inputs::default() };
-    let force = Inputs { f_d: 8.0, ..Inputs::default() };
+    let vel = Inputs {
+        v_d: 1e-3,
+        ..Inputs::default()
+    };
+    let force = Inputs {
+        f_d: 8.0,
+        ..Inputs::default()
+    };
     let a = row("Dahl, longitudinal, velocity", base, p, vel);
     let b = row(
         "Dahl, planar (angle 0: same motion), velocity guided",
-        Config { motion: Motion::Planar, ..base },
+        Config {
+            motion: Motion::Planar,
+            ..base
+        },
         p,
         vel,
     );
     println!("| planar / longitudinal | {:.2}× | | |", b / a);
     let c = row(
         "Dahl, longitudinal, force",
-        Config { drive: Drive::Force, ..base },
+        Config {
+            drive: Drive::Force,
+            ..base
+        },
         p,
         force,
     );
     println!("| force / velocity drive | {:.2}× | | |", c / a);
-    let d = row("LuGre, longitudinal, velocity", Config { law: Law::LuGre, ..base }, p, vel);
+    let d = row(
+        "LuGre, longitudinal, velocity",
+        Config {
+            law: Law::LuGre,
+            ..base
+        },
+        p,
+        vel,
+    );
     println!("| LuGre / Dahl | {:.2}× | | |", d / a);
     let e = row(
         "Dahl, planar, force, harmonic + input support",
@@ -108,5 +137,8 @@ fn main() {
         p,
         force,
     );
-    println!("| default contact / paper-longitudinal | {:.2}× | | |", e / a);
+    println!(
+        "| default contact / paper-longitudinal | {:.2}× | | |",
+        e / a
+    );
 }
