@@ -830,10 +830,14 @@ fn dupont_breakaway_ratio_outside_zero_one() {
         for c in &cases {
             check(&fmu, &vrs, c);
         }
-        // The lower bound is allowed. (Values close to 1 are allowed too, but the core is slow or
-        // stalls for r_ba >= 0.9 at the time of writing: reported, not tested here.)
-        let mut i = started(&fmu, "rba", &[(vr::R_BA, 0.0)]);
-        ok!(i, i.do_step(0.0, H));
+        // Both ends of [0, 1) are allowed.
+        for r_ba in [0.0, 0.999] {
+            let mut i = started(&fmu, "rba", &[(vr::R_BA, r_ba)]);
+            let mut t = 0.0;
+            for k in 0..3 {
+                t = step(&mut i, k, t, H);
+            }
+        }
     });
 }
 
