@@ -110,13 +110,16 @@ def runner(name, dist=None):
     return _RUNNERS[key]
 
 
-def f_mean(name, periods=20, tolerance=None, dist=None, **start):
+def f_mean(name, periods=20, tolerance=None, dist=None, output="F_mean", **start):
     """F_mean (N) after `periods` vibration periods of the FMU `name` with the given start values
-    (u0, f, v_d, k_t, ...; `f` must be given). One communication step spans all periods."""
+    (u0, f, v_d, k_t, ...; `f` must be given). One communication step spans all periods.
+    `output` reads another output instead (e.g. "reduction")."""
     r = runner(name, dist)
     r.start(start, tolerance)
-    r.step(0.0, periods / float(start["f"]))
-    return r.get("F_mean")[0]
+    status = r.step(0.0, periods / float(start["f"]))
+    if status not in (0, None):
+        raise RuntimeError(f"{name}: fmi2DoStep returned {status} with {start}")
+    return r.get(output)[0]
 
 
 def point(args):
