@@ -123,9 +123,14 @@ def f_mean(name, periods=20, tolerance=None, dist=None, output="F_mean", **start
 
 
 def point(args):
-    """A picklable sweep task: (fmu name, dict of start values, periods) -> F_mean."""
-    name, start, periods = args
-    return f_mean(name, periods=periods, **start)
+    """A picklable sweep task: (fmu name, dict of start values, periods[, dist dir]) -> F_mean."""
+    name, start, periods, *dist = args
+    return f_mean(name, periods=periods, dist=dist[0] if dist else None, **start)
+
+
+def dist_dir():
+    """The directory of the FMUs as seen here ($VIBROFRIC_DIST, else dist/ of this checkout)."""
+    return str(pathlib.Path(os.environ.get("VIBROFRIC_DIST", DIST)).resolve())
 
 
 def psi_of(u0, f, v_d):

@@ -5,7 +5,7 @@
     .venv/bin/python examples/figures/make_all.py [--scheduler ADDRESS] [--workers N] [--out DIR]
 
 Sweeps run through Dask: local worker processes by default (one per core), or a dask.distributed
-cluster with --scheduler (its workers must see dist/ at the same path, or $VIBROFRIC_DIST).
+cluster with --scheduler (its workers must see dist/, or $VIBROFRIC_DIST, at the same path).
 --n overrides every figure's grid size (points per axis); without it each figure uses its own
 (Figs. 7 and 10: 50 x 50 per side, 5000 FMU runs each).
 """

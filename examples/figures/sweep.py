@@ -8,8 +8,8 @@ hundred FMU runs) so that Dask's per-task overhead does not swamp FMU runs of a 
   (`--workers N` to change), each keeping its extracted FMU instances for the whole sweep,
   with `dask.diagnostics.ProgressBar`;
 - `--scheduler ADDRESS` (e.g. tcp://host:8786): a `dask.distributed` cluster. fmurun.py is
-  uploaded to the workers; the FMUs are read from the same path (dist/ of this checkout, or
-  $VIBROFRIC_DIST on the workers), so the workers must see that file system.
+  uploaded to the workers; the FMUs are read from the path resolved here (dist/ of this
+  checkout, or $VIBROFRIC_DIST), so the workers must see that file system at the same path.
 """
 
 import argparse
@@ -25,6 +25,9 @@ sys.path.insert(0, str(HERE))
 import fmurun  # noqa: E402
 
 OUT = fmurun.ROOT / "docs" / "figures"
+# The FMU directory, resolved at import: Client.upload_file may reload fmurun in this process
+# (a scheduler in-process imports the uploaded copy), which would move its default path.
+DIST = fmurun.dist_dir()
 
 _CLIENT = None
 _ARGS = None
@@ -65,6 +68,7 @@ def run(tasks, label="sweep", chunk=None):
     workers = max(1, args.workers if args else (os.cpu_count() or 1))
     if chunk is None:
         chunk = max(1, min(100, -(-len(tasks) // (16 * workers))))
+    tasks = [tuple(t[:3]) + (DIST,) for t in tasks]  # workers read the FMUs from this path
     parts = [delayed(_chunk)(tasks[i:i + chunk]) for i in range(0, len(tasks), chunk)]
     t0 = time.perf_counter()
     print(f"{label}: {len(tasks)} FMU runs in {len(parts)} Dask tasks", flush=True)
