@@ -6,12 +6,15 @@
 //! inputs alone (the body's `x` under velocity drive, the spring's far end `x_d`) are exact
 //! integrals of the input tracks, not integrator states.
 
-use nalgebra::SVector;
+// Jacobian assembly indexes rows and columns of several matrices in lockstep.
+#![allow(clippy::needless_range_loop)]
+
+use nalgebra::{SMatrix, SVector};
 
 use super::simulator::{SimError, Simulator, StepStats};
 use super::{Config, InputId, Inputs, Outputs};
-use crate::physics::{FrictionLaw, Harmonic, InputTrack, ParamId, Params, Vector};
-use crate::solver::{OdeSystem, Radau5, Step, MAX_SWITCH};
+use crate::physics::{FrictionLaw, Harmonic, InputTrack, LawJacobian, ParamId, Params, Vector};
+use crate::solver::{OdeSystem, Radau5, Step, MAX_DIM, MAX_SWITCH};
 
 /// Forces and motions the drive needs at one instant.
 #[derive(Clone, Copy, Debug)]
@@ -39,6 +42,26 @@ pub trait DriveKind<V: Vector>: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn body_rate(&self, body: &[f64], f_f: V, d: &DriveInputs, out: &mut [f64]);
     /// Natural magnitudes of the body states (positions, then velocities).
     fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]);
+    /// Fills the Jacobian's body rows, and the deformation rows' columns of the body velocity,
+    /// from the law's partial derivatives. Rows and columns index the whole state, the
+    /// deformation first; every other entry is left as it is (zero).
+    fn jacobian(&self, lj: &LawJacobian, jac: &mut Jac);
+}
+
+/// The Jacobian of the largest state, indexed `[row][column]`.
+pub type Jac = [[f64; MAX_DIM]; MAX_DIM];
+
+/// Jacobian entries of a body `[position (DIM), velocity (DIM)]` pushed by `F_d·e_x − F_F`.
+fn body_jacobian<V: Vector>(inv_m: f64, lj: &LawJacobian, jac: &mut Jac) {
+    let d = V::DIM;
+    for i in 0..d {
+        jac[d + i][2 * d + i] = 1.0;
+        for j in 0..d {
+            jac[i][2 * d + j] = lj.rate_v[i][j];
+            jac[2 * d + i][j] = -lj.force_s[i][j] * inv_m;
+            jac[2 * d + i][2 * d + j] = -lj.force_v[i][j] * inv_m;
+        }
+    }
 }
 
 /// Velocity drive with the body guided in y (longitudinal contacts and `lateral = "guided"`):
@@ -64,6 +87,7 @@ impl<V: Vector> DriveKind<V> for VelocityGuided {
     #[inline(always)]
     fn body_rate(&self, _: &[f64], _: V, _: &DriveInputs, _: &mut [f64]) {}
     fn scale(&self, _: f64, _: f64, _: &mut [f64]) {}
+    fn jacobian(&self, _: &LawJacobian, _: &mut Jac) {}
 }
 
 /// Velocity drive in x with free lateral motion `m·dv_y/dt = −F_Fy` (planar only): body `[y, v_y]`.
@@ -95,6 +119,16 @@ impl<V: Vector> DriveKind<V> for VelocityFree {
     fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]) {
         out[0] = x_nom;
         out[1] = v_nom;
+    }
+    fn jacobian(&self, lj: &LawJacobian, jac: &mut Jac) {
+        // state [s_x, s_y, y, v_y]; v_r depends on the body through v_y only.
+        let (y, vy) = (V::DIM, V::DIM + 1);
+        for i in 0..V::DIM {
+            jac[i][vy] = lj.rate_v[i][1];
+            jac[vy][i] = -lj.force_s[1][i] * self.inv_m;
+        }
+        jac[y][vy] = 1.0;
+        jac[vy][vy] = -lj.force_v[1][1] * self.inv_m;
     }
 }
 
@@ -132,6 +166,9 @@ impl<V: Vector> DriveKind<V> for Force {
     fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]) {
         out[..V::DIM].fill(x_nom);
         out[V::DIM..].fill(v_nom);
+    }
+    fn jacobian(&self, lj: &LawJacobian, jac: &mut Jac) {
+        body_jacobian::<V>(self.inv_m, lj, jac);
     }
 }
 
@@ -176,6 +213,13 @@ impl<V: Vector> DriveKind<V> for Spring {
     fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]) {
         out[..V::DIM].fill(x_nom);
         out[V::DIM..].fill(v_nom);
+    }
+    fn jacobian(&self, lj: &LawJacobian, jac: &mut Jac) {
+        body_jacobian::<V>(self.inv_m, lj, jac);
+        // F_d = k_d·(x_d − x) + c_d·(v_d − v_x) acts on v_x.
+        let (x, vx) = (V::DIM, 2 * V::DIM);
+        jac[vx][x] -= self.k_d * self.inv_m;
+        jac[vx][vx] -= self.c_d * self.inv_m;
     }
 }
 
@@ -334,6 +378,20 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
     fn switch(&self, t: f64, y: &SVector<f64, N>) -> [f64; MAX_SWITCH] {
         let e = self.eval(t, y.as_slice());
         [e.vr.x(), e.s.dot(e.vr)]
+    }
+
+    /// In closed form from the law's partial derivatives and the drive's structure.
+    fn jacobian(&self, t: f64, y: &SVector<f64, N>) -> Option<SMatrix<f64, N, N>> {
+        let e = self.eval(t, y.as_slice());
+        let lj = self.dynamics.law.jacobian(e.s, e.vr, e.ds);
+        let mut jac: Jac = [[0.0; MAX_DIM]; MAX_DIM];
+        for i in 0..V::DIM {
+            for j in 0..V::DIM {
+                jac[i][j] = lj.rate_s[i][j];
+            }
+        }
+        self.dynamics.drive.jacobian(&lj, &mut jac);
+        Some(SMatrix::from_fn(|i, j| jac[i][j]))
     }
 
     /// `F_Fx`, whose integral over each window is the mean friction force.
@@ -809,5 +867,113 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
 
     fn clone_box(&self) -> Box<dyn Simulator> {
         Box::new(self.clone())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Drive, Lateral, Law, Motion};
+    use crate::physics::{Dahl, Dupont, LuGre, Planar};
+
+    /// The closed-form Jacobian against central differences at states spread over the regimes
+    /// of each law (pre-sliding, the Dupont transition, sliding near |s| = s_ss, both signs of
+    /// v_r), for every law, motion and drive.
+    fn check<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(c: Config, p: Params) {
+        let mut contact = Contact::<V, L, D, N>::new(c, p, 0.0, 1e-6);
+        contact.dynamics.tracks[0].value = 3.0; // F_d
+        contact.dynamics.tracks[1].value = 1.2e-3; // v_d
+        contact.dynamics.tracks[2].value = 2e-4; // v_sx
+        contact.dynamics.tracks[3].value = -3e-4; // v_sy
+        let sys = contact.system();
+        let s_ss = p.f_c() / p.k_t;
+        for (k, frac) in [0.1, 0.62, 0.8, 0.97, -0.7].into_iter().enumerate() {
+            let t = 1.3e-4 * (k as f64 + 1.0);
+            let mut y = SVector::<f64, N>::zeros();
+            y[0] = frac * s_ss;
+            if V::DIM == 2 {
+                y[1] = 0.3 * frac * s_ss;
+            }
+            for i in V::DIM..N {
+                // positions ~ µm, velocities ~ mm/s, with both signs
+                y[i] = if i % 2 == 0 { 1e-6 } else { -2e-3 } * (1.0 + 0.1 * i as f64);
+            }
+            let jac = OdeSystem::<N>::jacobian(&sys, t, &y).unwrap();
+            let scale = OdeSystem::<N>::scale(&sys);
+            for j in 0..N {
+                let h = 1e-7 * scale[j];
+                let (mut yp, mut ym) = (y, y);
+                yp[j] += h;
+                ym[j] -= h;
+                let fd = (OdeSystem::<N>::rhs(&sys, t, &yp) - OdeSystem::<N>::rhs(&sys, t, &ym))
+                    / (2.0 * h);
+                for i in 0..N {
+                    let tol = 1e-5 * (fd[i].abs() + jac[(i, j)].abs()) + 1e-9 * scale_of(&jac, i);
+                    assert!(
+                        (jac[(i, j)] - fd[i]).abs() <= tol,
+                        "{c:?} state {k}: J[{i}][{j}] = {} vs difference {}",
+                        jac[(i, j)],
+                        fd[i]
+                    );
+                }
+            }
+        }
+    }
+
+    fn scale_of<const N: usize>(jac: &SMatrix<f64, N, N>, row: usize) -> f64 {
+        (0..N).map(|j| jac[(row, j)].abs()).fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn closed_form_jacobian_matches_finite_differences() {
+        let mut p = Params {
+            h_v: 20.0,
+            ..Params::default()
+        };
+        for law in [Law::Dahl, Law::Dupont, Law::LuGre] {
+            macro_rules! run {
+                ($v:ty, $d:ty, $n:literal, $motion:expr, $drive:expr, $lateral:expr) => {{
+                    let c = Config {
+                        law,
+                        motion: $motion,
+                        drive: $drive,
+                        lateral: $lateral,
+                        harmonic: true,
+                        input_support: true,
+                    };
+                    match law {
+                        Law::Dahl => check::<$v, Dahl, $d, $n>(c, p),
+                        Law::Dupont => check::<$v, Dupont, $d, $n>(c, p),
+                        Law::LuGre => check::<$v, LuGre, $d, $n>(c, p),
+                    }
+                }};
+            }
+            use Motion::{Longitudinal as L1, Planar as P2};
+            run!(f64, VelocityGuided, 1, L1, Drive::Velocity, Lateral::Guided);
+            run!(f64, Force, 3, L1, Drive::Force, Lateral::Guided);
+            run!(f64, Spring, 3, L1, Drive::Spring, Lateral::Guided);
+            run!(
+                Planar,
+                VelocityGuided,
+                2,
+                P2,
+                Drive::Velocity,
+                Lateral::Guided
+            );
+            run!(Planar, VelocityFree, 4, P2, Drive::Velocity, Lateral::Free);
+            run!(Planar, Force, 6, P2, Drive::Force, Lateral::Guided);
+            run!(Planar, Spring, 6, P2, Drive::Spring, Lateral::Guided);
+        }
+        // Dahl with an exponent (longitudinal only).
+        p.kappa = 2.0;
+        let c = Config {
+            law: Law::Dahl,
+            motion: Motion::Longitudinal,
+            drive: Drive::Force,
+            lateral: Lateral::Guided,
+            harmonic: true,
+            input_support: true,
+        };
+        check::<f64, Dahl, Force, 3>(c, p);
     }
 }

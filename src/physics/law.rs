@@ -10,6 +10,59 @@ use super::{Params, Vector};
 /// Smallest deformation scale used to normalise errors when the law has no friction at all.
 const S_FLOOR: f64 = 1e-30;
 
+/// A 2×2 matrix over the in-plane components; a longitudinal contact uses `[0][0]` only.
+pub type Mat2 = [[f64; 2]; 2];
+
+/// Partial derivatives of the deformation rate and of the friction force with respect to the
+/// deformation `s` and the relative velocity `v_r` (the force's through `ds/dt` included).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LawJacobian {
+    pub rate_s: Mat2,
+    pub rate_v: Mat2,
+    pub force_s: Mat2,
+    pub force_v: Mat2,
+}
+
+fn diag(a: f64) -> Mat2 {
+    [[a, 0.0], [0.0, a]]
+}
+
+/// `a ⊗ b`
+fn outer<V: Vector>(a: V, b: V) -> Mat2 {
+    [
+        [a.x() * b.x(), a.x() * b.y()],
+        [a.y() * b.x(), a.y() * b.y()],
+    ]
+}
+
+/// `a + k·b`
+fn axpy(a: Mat2, k: f64, b: Mat2) -> Mat2 {
+    [
+        [a[0][0] + k * b[0][0], a[0][1] + k * b[0][1]],
+        [a[1][0] + k * b[1][0], a[1][1] + k * b[1][1]],
+    ]
+}
+
+/// Unit vector along `v`, zero for a zero vector.
+fn unit<V: Vector>(v: V) -> V {
+    let n = v.norm();
+    if n > 0.0 {
+        v * (1.0 / n)
+    } else {
+        V::default()
+    }
+}
+
+/// Force derivatives of a law whose force is `k_t·s`.
+fn elastic(k_t: f64, rate_s: Mat2, rate_v: Mat2) -> LawJacobian {
+    LawJacobian {
+        rate_s,
+        rate_v,
+        force_s: diag(k_t),
+        force_v: diag(0.0),
+    }
+}
+
 /// One friction law with its constants precomputed from [`Params`].
 pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     /// Whether the law has a discontinuity off `v_r = 0` in planar motion that the integrator
@@ -27,6 +80,8 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn bound(&self) -> Option<f64>;
     /// Natural magnitude of `s`, for error norms.
     fn s_scale(&self) -> f64;
+    /// Partial derivatives at `(s, v_r)`, with `ds = rate(s, v_r)`.
+    fn jacobian<V: Vector>(&self, s: V, vr: V, ds: V) -> LawJacobian;
 }
 
 /// Dahl (SPEC §2, Eqs. 1, 3 with gamma = 1).
@@ -68,6 +123,9 @@ impl FrictionLaw for Dahl {
 
     #[inline(always)]
     fn force<V: Vector>(&self, s: V, _vr: V, _ds: V) -> V {
+        if self.inv_s_ss == 0.0 {
+            return V::default(); // no friction, exactly
+        }
         s * self.k_t
     }
 
@@ -88,6 +146,28 @@ impl FrictionLaw for Dahl {
 
     fn s_scale(&self) -> f64 {
         self.s_ss.max(S_FLOOR)
+    }
+
+    fn jacobian<V: Vector>(&self, s: V, vr: V, _ds: V) -> LawJacobian {
+        if self.inv_s_ss == 0.0 {
+            return LawJacobian::default(); // no friction: nothing depends on anything
+        }
+        if self.kappa == 1.0 {
+            let rate_s = diag(-vr.norm() * self.inv_s_ss);
+            let rate_v = axpy(diag(1.0), -self.inv_s_ss, outer(s, unit(vr)));
+            elastic(self.k_t, rate_s, rate_v)
+        } else {
+            let (s, v) = (s.x(), vr.x());
+            let w = 1.0 - v.signum() * s * self.inv_s_ss;
+            // |w|^(kappa−1) is unbounded at w = 0 for kappa < 1; the floor keeps Newton finite.
+            let d =
+                -self.kappa * v.abs() * w.abs().max(1e-12).powf(self.kappa - 1.0) * self.inv_s_ss;
+            elastic(
+                self.k_t,
+                diag(d),
+                diag(w.abs().powf(self.kappa) * w.signum()),
+            )
+        }
     }
 }
 
@@ -119,6 +199,21 @@ impl Dupont {
     }
 }
 
+impl Dupont {
+    /// Gradient of alpha with respect to `s` (zero outside the transition `s_ba < |s| < s_ss`).
+    fn alpha_gradient<V: Vector>(&self, s: V, vr: V) -> V {
+        let z = s.norm();
+        if s.dot(vr) <= 0.0 || z <= self.s_ba || z >= self.s_ss {
+            return V::default();
+        }
+        let width = self.s_ss - self.s_ba;
+        let mid = 0.5 * (self.s_ss + self.s_ba);
+        let d =
+            0.5 * std::f64::consts::PI / width * (std::f64::consts::PI * (z - mid) / width).cos();
+        s * (d / z)
+    }
+}
+
 impl FrictionLaw for Dupont {
     const PLANAR_SWITCH: bool = true;
 
@@ -142,6 +237,9 @@ impl FrictionLaw for Dupont {
 
     #[inline(always)]
     fn force<V: Vector>(&self, s: V, _vr: V, _ds: V) -> V {
+        if self.inv_s_ss == 0.0 {
+            return V::default(); // no friction, exactly
+        }
         s * self.k_t
     }
 
@@ -156,6 +254,18 @@ impl FrictionLaw for Dupont {
 
     fn s_scale(&self) -> f64 {
         self.s_ss.max(S_FLOOR)
+    }
+
+    fn jacobian<V: Vector>(&self, s: V, vr: V, _ds: V) -> LawJacobian {
+        if self.inv_s_ss == 0.0 {
+            return LawJacobian::default(); // no friction: nothing depends on anything
+        }
+        let r = vr.norm();
+        let alpha = self.alpha(s, vr);
+        let k = r * self.inv_s_ss;
+        let rate_s = axpy(diag(-alpha * k), -k, outer(s, self.alpha_gradient(s, vr)));
+        let rate_v = axpy(diag(1.0), -alpha * self.inv_s_ss, outer(s, unit(vr)));
+        elastic(self.k_t, rate_s, rate_v)
     }
 }
 
@@ -205,6 +315,9 @@ impl FrictionLaw for LuGre {
 
     #[inline(always)]
     fn force<V: Vector>(&self, s: V, vr: V, ds: V) -> V {
+        if self.f_c == 0.0 && self.f_s == 0.0 {
+            return vr * self.h_v; // no dry friction: the viscous term alone
+        }
         let h_t = self.h_t0 * (-vr.dot(vr) * self.inv_v_e2).exp();
         s * self.k_t + ds * h_t + vr * self.h_v
     }
@@ -220,6 +333,38 @@ impl FrictionLaw for LuGre {
 
     fn s_scale(&self) -> f64 {
         (self.f_c.max(self.f_s) / self.k_t).max(S_FLOOR)
+    }
+
+    fn jacobian<V: Vector>(&self, s: V, vr: V, ds: V) -> LawJacobian {
+        let r2 = vr.dot(vr);
+        let r = r2.sqrt();
+        let h_t = self.h_t0 * (-r2 * self.inv_v_e2).exp();
+        let grad_h_t = vr * (-2.0 * self.inv_v_e2 * h_t);
+        if self.f_c == 0.0 && self.f_s == 0.0 {
+            return LawJacobian {
+                force_v: diag(self.h_v),
+                ..LawJacobian::default()
+            };
+        }
+        let (rate_s, rate_v) = {
+            let ex = (-r2 * self.inv_v_s2).exp();
+            let g_raw = (self.f_c + (self.f_s - self.f_c) * ex) / self.k_t;
+            let g = g_raw.max(1e-290);
+            let grad_g = if g_raw > 1e-290 {
+                vr * ((self.f_s - self.f_c) * ex * (-2.0 * self.inv_v_s2) / self.k_t)
+            } else {
+                V::default()
+            };
+            // ∇(|v_r|/g) = e/g − |v_r|·∇g/g²
+            let grad_q = unit(vr) * (1.0 / g) - grad_g * (r / (g * g));
+            (diag(-r / g), axpy(diag(1.0), -1.0, outer(s, grad_q)))
+        };
+        LawJacobian {
+            rate_s,
+            rate_v,
+            force_s: axpy(diag(self.k_t), h_t, rate_s),
+            force_v: axpy(axpy(diag(self.h_v), h_t, rate_v), 1.0, outer(ds, grad_h_t)),
+        }
     }
 }
 

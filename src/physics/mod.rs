@@ -6,7 +6,7 @@ mod params;
 mod support;
 mod vector;
 
-pub use law::{Dahl, Dupont, FrictionLaw, LuGre};
+pub use law::{Dahl, Dupont, FrictionLaw, LawJacobian, LuGre, Mat2};
 pub use params::{ParamError, ParamId, Params, Rule};
 pub use support::{Harmonic, InputTrack};
 pub use vector::{Planar, Vector};
