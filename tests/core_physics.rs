@@ -150,6 +150,36 @@ fn dahl_rate(s: f64, vr: f64, s_ss: f64) -> f64 {
     vr - vr.abs() * s / s_ss
 }
 
+/// Asserts that the reference integration converged (its two resolutions `r1`, `r2` agree to
+/// 1e-7 of each component's scale) and that `got` matches it to 1e-5 of the scale.
+fn assert_matches_converged_reference<const N: usize>(
+    r1: &[f64; N],
+    r2: &[f64; N],
+    got: &[f64; N],
+    scales: &[f64; N],
+) {
+    for i in 0..N {
+        assert!(
+            (r1[i] - r2[i]).abs() < 1e-7 * scales[i],
+            "reference not converged in {i}"
+        );
+        assert!(
+            (got[i] - r2[i]).abs() < 1e-5 * scales[i],
+            "component {i}: {} vs reference {}",
+            got[i],
+            r2[i]
+        );
+    }
+}
+
+/// Runs a force drive at constant `F_d` to `t_end` at tolerance 1e-9.
+fn run_force(c: Config, p: Params, f_d: f64, t_end: f64) -> Outputs {
+    let mut sim = build(c, p, 0.0, 1e-9).unwrap();
+    sim.set_input(InputId::FD, f_d).unwrap();
+    sim.step_to(t_end).unwrap();
+    sim.outputs()
+}
+
 #[test]
 fn longitudinal_force_drive_matches_reference_runge_kutta() {
     let mut p = Params::default();
@@ -165,31 +195,14 @@ fn longitudinal_force_drive_matches_reference_runge_kutta() {
     let r1 = rk4(&f, 0.0, [0.0; 3], t_end, 400_000, &mut |_, _| {});
     let r2 = rk4(&f, 0.0, [0.0; 3], t_end, 800_000, &mut |_, _| {});
     let scales = [s_ss, 1e-6, v_a];
-    for i in 0..3 {
-        assert!(
-            (r1[i] - r2[i]).abs() < 1e-7 * scales[i],
-            "reference not converged in {i}"
-        );
-    }
     let c = config(
         Law::Dahl,
         Motion::Longitudinal,
         Drive::Force,
         Lateral::Guided,
     );
-    let mut sim = build(c, p, 0.0, 1e-9).unwrap();
-    sim.set_input(InputId::FD, f_d).unwrap();
-    sim.step_to(t_end).unwrap();
-    let o = sim.outputs();
-    let got = [o.s_x, o.x, o.v_x];
-    for i in 0..3 {
-        assert!(
-            (got[i] - r2[i]).abs() < 1e-5 * scales[i],
-            "component {i}: {} vs reference {}",
-            got[i],
-            r2[i]
-        );
-    }
+    let o = run_force(c, p, f_d, t_end);
+    assert_matches_converged_reference(&r1, &r2, &[o.s_x, o.x, o.v_x], &scales);
 }
 
 #[test]
@@ -219,26 +232,10 @@ fn planar_force_drive_matches_reference_runge_kutta() {
     let r1 = rk4(&f, 0.0, [0.0; 6], t_end, 300_000, &mut |_, _| {});
     let r2 = rk4(&f, 0.0, [0.0; 6], t_end, 600_000, &mut |_, _| {});
     let scales = [s_ss, s_ss, 1e-6, 1e-6, v_a, v_a];
-    for i in 0..6 {
-        assert!(
-            (r1[i] - r2[i]).abs() < 1e-7 * scales[i],
-            "reference not converged in {i}"
-        );
-    }
     let c = config(Law::Dahl, Motion::Planar, Drive::Force, Lateral::Guided);
-    let mut sim = build(c, p, 0.0, 1e-9).unwrap();
-    sim.set_input(InputId::FD, f_d).unwrap();
-    sim.step_to(t_end).unwrap();
-    let o = sim.outputs();
+    let o = run_force(c, p, f_d, t_end);
     let got = [o.s_x, o.s_y, o.x, o.y, o.v_x, o.v_y];
-    for i in 0..6 {
-        assert!(
-            (got[i] - r2[i]).abs() < 1e-5 * scales[i],
-            "component {i}: {} vs reference {}",
-            got[i],
-            r2[i]
-        );
-    }
+    assert_matches_converged_reference(&r1, &r2, &got, &scales);
 }
 
 #[test]

@@ -35,6 +35,15 @@ fn planar_force(law: Law) -> Config {
     }
 }
 
+/// The driving input of a configuration: 8 N of force, or 1 mm/s of velocity.
+fn drive_input(c: &Config) -> (InputId, f64) {
+    if c.drive == Drive::Force {
+        (InputId::FD, 8.0)
+    } else {
+        (InputId::VD, 1e-3)
+    }
+}
+
 /// Steps `sim` with communication step `dt` to `n·dt`, asserting finite outputs and, for laws
 /// with a bound, `|s| ≤ s_ss` and `P_diss ≥ 0` at every communication point.
 fn step_checked(sim: &mut dyn Simulator, dt: f64, n: usize, bounded: bool) {
@@ -198,11 +207,7 @@ fn lugre_with_damping_ratio_1_at_k_t_1e10() {
     p.zeta_t = 1.0;
     for c in [long_velocity(Law::LuGre), planar_force(Law::LuGre)] {
         let mut sim = build(c, p, 0.0, TOL).unwrap();
-        let input = if c.drive == Drive::Force {
-            (InputId::FD, 8.0)
-        } else {
-            (InputId::VD, 1e-3)
-        };
+        let input = drive_input(&c);
         sim.set_input(input.0, input.1).unwrap();
         step_checked(sim.as_mut(), 1e-3, 10, false);
     }
@@ -225,11 +230,7 @@ fn dupont_breakaway_ratio_0_and_0_999() {
         p.r_ba = r_ba;
         for c in [long_velocity(Law::Dupont), planar_force(Law::Dupont)] {
             let mut sim = build(c, p, 0.0, TOL).unwrap();
-            let input = if c.drive == Drive::Force {
-                (InputId::FD, 8.0)
-            } else {
-                (InputId::VD, 1e-3)
-            };
+            let input = drive_input(&c);
             sim.set_input(input.0, input.1).unwrap();
             step_checked(sim.as_mut(), 1e-3, 10, true);
         }

@@ -194,6 +194,22 @@ impl Variable {
     }
 }
 
+const fn row(
+    vr: u32,
+    kind: VarKind,
+    unit: &'static str,
+    display_unit: Option<&'static str>,
+    description: &'static str,
+) -> Variable {
+    Variable {
+        vr,
+        kind,
+        description,
+        unit,
+        display_unit,
+    }
+}
+
 const fn param(
     vr: u32,
     p: ParamId,
@@ -201,13 +217,7 @@ const fn param(
     display: Option<&'static str>,
     description: &'static str,
 ) -> Variable {
-    Variable {
-        vr,
-        kind: VarKind::Param(p),
-        description,
-        unit,
-        display_unit: display,
-    }
+    row(vr, VarKind::Param(p), unit, display, description)
 }
 
 const fn input(
@@ -217,13 +227,7 @@ const fn input(
     display: Option<&'static str>,
     description: &'static str,
 ) -> Variable {
-    Variable {
-        vr,
-        kind: VarKind::Input(i),
-        description,
-        unit,
-        display_unit: display,
-    }
+    row(vr, VarKind::Input(i), unit, display, description)
 }
 
 const fn output(
@@ -233,13 +237,7 @@ const fn output(
     display: Option<&'static str>,
     description: &'static str,
 ) -> Variable {
-    Variable {
-        vr,
-        kind: VarKind::Output(o),
-        description,
-        unit,
-        display_unit: display,
-    }
+    row(vr, VarKind::Output(o), unit, display, description)
 }
 
 const UM: Option<&str> = Some("um");
