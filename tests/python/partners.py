@@ -1,0 +1,255 @@
+"""Runs an FMU in the importers (fmpy, libcosim, ecos, fmi-sim) for n communication steps of
+nominal size h and returns the outputs after each step as numpy arrays by name.
+
+Each runner uses the importer as its users do: its own unpacking, instance name, resource URI,
+experiment set-up and time keeping, which differ by a few ulps (fmpy's simulate_fmu: points k·h,
+steps (k+1)·h − k·h; libcosim: integer nanoseconds; ecos: t += h; fmi-sim: points k·h, steps h).
+The *_grid functions give those exact points, steps and end times, and run_fmpy_replay drives
+fmpy's FMU2Slave through them. Only outputs are compared; start values are the FMU's own.
+"""
+
+import csv
+import io
+import os
+import pathlib
+import shutil
+import subprocess
+
+import numpy as np
+from fmpy import read_model_description, simulate_fmu
+
+# Agreement criterion: |a − b| ≤ REL·|b| + ABS_FLOOR·scale, where scale is max |b| of that output
+# over the run (fmpy's values b); for an output that is zero throughout, the floor is 1e-300.
+REL = 1e-9
+ABS_FLOOR = 1e-9
+
+
+def outputs_of(fmu):
+    md = read_model_description(fmu)
+    return [(v.name, v.valueReference) for v in md.modelVariables if v.causality == "output"]
+
+
+def run_fmpy(fmu, h, n):
+    names = [name for name, _ in outputs_of(fmu)]
+    res = simulate_fmu(fmu, stop_time=n * h, output_interval=h, step_size=h, output=names)
+    assert len(res) == n + 1, (len(res), n)
+    return res["time"][1:], {name: res[name][1:] for name in names}
+
+
+def run_fmpy_replay(fmu, points, steps, instance_name="replay"):
+    """fmpy's FMU2Slave driven through exactly the communication points and step sizes a
+    partner used (toleranceDefined = 0, stopTimeDefined = 0); outputs after each step."""
+    import shutil as _shutil
+
+    from fmpy import extract
+    from fmpy.fmi2 import FMU2Slave
+
+    md = read_model_description(fmu)
+    outs = outputs_of(fmu)
+    unzipdir = extract(fmu)
+    try:
+        s = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,
+                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance_name)
+        s.instantiate()
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        s.exitInitializationMode()
+        rows = []
+        for t, h in zip(points, steps):
+            s.doStep(currentCommunicationPoint=float(t), communicationStepSize=float(h))
+            rows.append(s.getReal([vr for _, vr in outs]))
+        s.terminate()
+        s.freeInstance()
+    finally:
+        _shutil.rmtree(unzipdir, ignore_errors=True)
+    rows = np.array(rows)
+    return {name: rows[:, k] for k, (name, _) in enumerate(outs)}
+
+
+def libcosim_grid(h, n):
+    """libcosim's communication points and steps: integer nanoseconds converted as its
+    cosim::to_double_time_point (ns / 1e9) and to_double_duration (difference of two points)."""
+    h_ns = round(h * 1e9)
+    t = np.array([k * h_ns / 1e9 for k in range(n + 1)])
+    return t[:-1], np.diff(t), t[1:]
+
+
+def accumulated_grid(h, n):
+    """A master's t += h."""
+    t, points, ends = 0.0, [], []
+    for _ in range(n):
+        points.append(t)
+        t += h
+        ends.append(t)
+    return np.array(points), np.full(n, h), np.array(ends)
+
+
+def multiplied_grid(h, n):
+    """A master's t_k = k·h (fmpy's simulate_fmu, fmi-sim)."""
+    return np.arange(n) * h, np.full(n, h), np.arange(1, n + 1) * h
+
+
+def run_libcosim(fmu, h, n, instance_name="libcosim"):
+    from libcosimpy.CosimEnums import CosimErrorCode
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    # libcosim fails a step whose fmi2DoStep does not return fmi2OK (checked below) and logs the
+    # FMU's messages; warnings and errors only, to keep the test output short.
+    log_output_level(CosimLogLevel.WARNING)
+    h_ns = round(h * 1e9)
+    assert abs(h_ns - h * 1e9) < 1e-6, f"libcosim's time is integer nanoseconds: h = {h}"
+    ex = CosimExecution.from_step_size(step_size=h_ns)
+    idx = ex.add_local_slave(CosimLocalSlave(fmu_path=str(fmu), instance_name=instance_name))
+    assert idx >= 0
+    obs = CosimObserver.create_last_value()
+    ex.add_observer(obs)
+    names = {v.name.decode(): v.reference for v in ex.slave_variables(idx)}
+    outs = outputs_of(fmu)
+    for name, vr in outs:
+        assert names[name] == vr, name
+    refs = [vr for _, vr in outs]
+    times, rows = [], []
+    for _ in range(n):
+        assert ex.step(1), f"libcosim step failed: {ex.status()}"
+        st = ex.status()
+        assert st.error_code == CosimErrorCode.SUCCESS.value, st
+        times.append(st.current_time / 1e9)
+        rows.append(obs.last_real_values(idx, refs))
+    rows = np.array(rows)
+    return np.array(times), {name: rows[:, k] for k, (name, _) in enumerate(outs)}
+
+
+ECOS_ERROR_MARKS = ("fmi2Error", "fmi2Fatal", "fmi2Discard")
+
+
+def run_ecos(fmu, h, n, capfd):
+    """ecos ignores fmi2DoStep's status: the FMU's log lines (forwarded by ecos at log level
+    debug, on stdout) are checked for an error status instead."""
+    from ecospy.EcosSimulation import EcosSimulation
+    from ecospy.EcosSimulationStructure import EcosSimulationStructure
+    from ecospy.lib import EcosLib
+
+    EcosLib.set_log_level("debug")
+    capfd.readouterr()
+    ss = EcosSimulationStructure()
+    ss.add_model("m", str(fmu))
+    sim = EcosSimulation(structure=ss, step_size=h)
+    try:
+        assert sim.init(), EcosLib.get_last_error()
+        outs = outputs_of(fmu)
+        times, rows = [], []
+        for _ in range(n):
+            times.append(sim.step(1))
+            rows.append([sim.get_real(f"m::{name}") for name, _ in outs])
+        sim.terminate()
+    finally:
+        sim.free()
+    log = capfd.readouterr()
+    text = log.out + log.err
+    bad = [l for l in text.splitlines() if any(m in l for m in ECOS_ERROR_MARKS)]
+    assert not bad, "\n".join(bad)
+    rows = np.array(rows)
+    return np.array(times), {name: rows[:, k] for k, (name, _) in enumerate(outs)}, text
+
+
+def fmi_sim_exe():
+    """$FMI_SIM (tests/all.sh sets it), else the one tests/all.sh installed, else PATH's."""
+    if os.environ.get("FMI_SIM"):
+        return pathlib.Path(os.environ["FMI_SIM"])
+    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", pathlib.Path(__file__).parents[2] / "target"))
+    installed = sorted(target.glob("partners/fmi-sim-*/bin/fmi-sim"))
+    if installed:
+        return installed[-1]
+    exe = shutil.which("fmi-sim")
+    return pathlib.Path(exe) if exe else None
+
+
+def run_fmi_sim(fmu, h, n, tmp_path, extra=()):
+    """fmi-sim forwards the FMU's log lines through the `log` crate (RUST_LOG=info: "ERROR
+    [logger] ..." for the FMU's errors); the run must show none and exit 0."""
+    out = tmp_path / "fmi-sim.csv"
+    args = [
+        str(fmi_sim_exe()),
+        "--model", str(fmu),
+        "--output-file", str(out),
+        "co-simulation",
+        "--output-interval", repr(h),
+        "-s", "0",
+        "-f", repr(n * h),
+        *extra,
+    ]
+    p = subprocess.run(args, capture_output=True, text=True, timeout=300,
+                       env=dict(os.environ, RUST_BACKTRACE="0", RUST_LOG="info"))
+    if extra:
+        return p
+    assert p.returncode == 0, f"{args}\n{p.stdout}\n{p.stderr}"
+    bad = [l for l in (p.stdout + p.stderr).splitlines() if "ERROR" in l or "WARN" in l]
+    assert not bad, "\n".join(bad)
+    rows = list(csv.reader(io.StringIO(out.read_text())))
+    header = [c.strip() for c in rows[0]]
+    data = np.array([[float(x) for x in r] for r in rows[1:] if r])
+    col = {name: k for k, name in enumerate(header)}
+    t = data[:, col["time"]]
+    keep = t > 0.5 * h  # the grid t_k, k ≥ 1
+    return t[keep], {name: data[keep, col[name]] for name, _ in outputs_of(fmu)}, p
+
+
+def disagreement(ref, other):
+    """Largest |a − b| / (REL·|b| + ABS_FLOOR·scale) over every output and point (≤ 1 agrees),
+    and the largest plain relative difference |a − b| / max(|b|, ABS_FLOOR·scale)."""
+    worst, worst_rel, where = 0.0, 0.0, None
+    for name, b in ref.items():
+        a = other[name]
+        assert a.shape == b.shape, (name, a.shape, b.shape)
+        scale = float(np.max(np.abs(b))) if np.any(b) else 0.0
+        floor = ABS_FLOOR * scale if scale > 0 else 1e-300
+        d = np.abs(a - b)
+        ratio = d / (REL * np.abs(b) + floor)
+        rel = d / np.maximum(np.abs(b), floor)
+        k = int(np.argmax(ratio))
+        if ratio[k] > worst:
+            worst, where = float(ratio[k]), (name, k)
+        worst_rel = max(worst_rel, float(np.max(rel)))
+    return worst, worst_rel, where
+
+
+# Outputs that are piecewise constant in time, jumping at each vibration-period boundary (the
+# mean over the last completed period): sampled at a communication point on a boundary, a few
+# ulps of time decide which side is read.
+PERIOD_OUTPUTS = ("F_mean", "reduction")
+
+
+def scaled_difference(ref, other):
+    """Largest |a − b| / scale over every output (scale: max |b| of that output), and where."""
+    worst, where = 0.0, None
+    for name, b in ref.items():
+        scale = float(np.max(np.abs(b)))
+        d = float(np.max(np.abs(other[name] - b)))
+        r = d / scale if scale > 0 else (0.0 if d == 0 else float("inf"))
+        if r > worst:
+            worst, where = r, name
+    return worst, where
+
+
+def shift_period_outputs(ref, other):
+    """ref with each period output at point k replaced by its value at k − 1, k or k + 1,
+    whichever is closest to other's (the value either side of a vibration-period boundary)."""
+    shifted = {}
+    for name, a in other.items():
+        b = ref[name]
+        if name in PERIOD_OUTPUTS:
+            choices = np.stack([b, np.r_[b[:1], b[:-1]], np.r_[b[1:], b[-1:]]])
+            k = np.argmin(np.abs(choices - a), axis=0)
+            shifted[name] = choices[k, np.arange(len(b))]
+        else:
+            shifted[name] = b
+    return shifted
+
+
+def grid_disagreement(ref, other):
+    """disagreement() for grids a few ulps apart: a period output at point k may equal the
+    reference at k − 1, k or k + 1."""
+    return disagreement(shift_period_outputs(ref, other), other)
