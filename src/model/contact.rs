@@ -420,6 +420,36 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
     }
 }
 
+/// Relative distance within which a communication point lies on a window boundary: far above
+/// the rounding of importers' time arithmetic, far below any physical time scale.
+const TIME_SNAP: f64 = 1e-12;
+
+/// Relative distance within which a time is taken as a nearby short decimal: 256 ulps, above
+/// the drift of importers' time arithmetic (`t += h`, `k·h`, integer nanoseconds) over
+/// thousands of steps, and small enough that a time meant to be no short decimal (k/3) almost
+/// never moves, and then by at most 256 ulps.
+const DECIMAL_SNAP: f64 = 256.0 * f64::EPSILON;
+
+/// The communication point an importer meant: a time within [`DECIMAL_SNAP`] of a decimal with
+/// 12 significant digits is taken as that decimal, so that importers that accumulate time
+/// differently step the FMU to bit-identical instants and get bit-identical results.
+pub fn canonical_time(t: f64) -> f64 {
+    if t == 0.0 || !t.is_finite() {
+        return t;
+    }
+    let exponent = t.abs().log10().floor() as i32;
+    let scale = 10f64.powi(11 - exponent);
+    if !scale.is_finite() || scale == 0.0 {
+        return t;
+    }
+    let c = (t * scale).round() / scale;
+    if (c - t).abs() <= DECIMAL_SNAP * t.abs() {
+        c
+    } else {
+        t
+    }
+}
+
 /// Running mean of `F_Fx` over averaging windows of fixed length aligned on `origin`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Window {
@@ -712,12 +742,18 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
                 target: t_end,
             });
         }
+        let t_end = match canonical_time(t_end) {
+            c if c > t0 => c,
+            _ => t_end,
+        };
         let saved = (self.radau, self.window);
         let h_max = self.h_max();
         let result = (|| {
             while self.radau.t < t_end {
                 let mut t_b = self.window.end();
-                if (t_b - t_end).abs() <= 4.0 * f64::EPSILON * t_end.abs() {
+                if (t_b - t_end).abs() <= TIME_SNAP * t_end.abs() {
+                    // A communication point on a window boundary completes the window,
+                    // whichever side of it the importer's rounding put the point.
                     t_b = t_end;
                 }
                 let target = t_b.min(t_end);
@@ -922,6 +958,27 @@ mod tests {
 
     fn scale_of<const N: usize>(jac: &SMatrix<f64, N, N>, row: usize) -> f64 {
         (0..N).map(|j| jac[(row, j)].abs()).fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn importers_time_arithmetic_maps_to_one_communication_point() {
+        let h = 1e-4;
+        let mut acc = 0.0;
+        for k in 1..=3000u32 {
+            acc += h; // ecos
+            let nominal = k as f64 * h; // fmi-sim
+            let fmpy = (k - 1) as f64 * h + (nominal - (k - 1) as f64 * h);
+            let libcosim = (k as u64 * 100_000) as f64 / 1e9;
+            let c = canonical_time(nominal);
+            assert_eq!(canonical_time(acc), c, "t += h at step {k}");
+            assert_eq!(canonical_time(fmpy), c);
+            assert_eq!(canonical_time(libcosim), c);
+            assert!((c - nominal).abs() <= 4.0 * f64::EPSILON * nominal);
+        }
+        // A time that is no short decimal stays exactly as it is.
+        let third = 1.0 / 3.0;
+        assert_eq!(canonical_time(third), third);
+        assert_eq!(canonical_time(0.0), 0.0);
     }
 
     #[test]

@@ -12,4 +12,5 @@ mod simulator;
 
 pub use config::{Config, Drive, Lateral, Law, Motion};
 pub use ids::{param_present, InputId, Inputs, OutputId, Outputs};
+pub use contact::canonical_time;
 pub use simulator::{build, SimError, Simulator, StepStats};
