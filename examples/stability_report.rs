@@ -11,8 +11,9 @@ mod common;
 use std::fmt::Write as _;
 use std::time::Instant;
 
+use common::configs::{long_velocity, planar_force};
 use common::ExactDahl;
-use vibrofric::model::{build, Config, Drive, InputId, Lateral, Law, Motion};
+use vibrofric::model::{build, Config, InputId, Law};
 use vibrofric::physics::Params;
 
 const TOL: f64 = 1e-6;
@@ -26,28 +27,6 @@ struct Case {
     n: usize,
     /// Exact F_mean (longitudinal Dahl, velocity drive) after the run, if it applies.
     exact: Option<f64>,
-}
-
-fn long_velocity(law: Law) -> Config {
-    Config {
-        law,
-        motion: Motion::Longitudinal,
-        drive: Drive::Velocity,
-        lateral: Lateral::Guided,
-        harmonic: true,
-        input_support: false,
-    }
-}
-
-fn planar_force(law: Law) -> Config {
-    Config {
-        law,
-        motion: Motion::Planar,
-        drive: Drive::Force,
-        lateral: Lateral::Guided,
-        harmonic: true,
-        input_support: true,
-    }
 }
 
 /// Longitudinal Dahl at `v_d` over `periods` periods in steps of `dt`, with its exact truth.

@@ -7,33 +7,12 @@
 
 mod common;
 
+use common::configs::{long_velocity, planar_force};
 use common::ExactDahl;
-use vibrofric::model::{build, Config, Drive, InputId, Lateral, Law, Motion, Simulator};
+use vibrofric::model::{build, Config, Drive, InputId, Law, Simulator};
 use vibrofric::physics::Params;
 
 const TOL: f64 = 1e-6;
-
-fn long_velocity(law: Law) -> Config {
-    Config {
-        law,
-        motion: Motion::Longitudinal,
-        drive: Drive::Velocity,
-        lateral: Lateral::Guided,
-        harmonic: true,
-        input_support: false,
-    }
-}
-
-fn planar_force(law: Law) -> Config {
-    Config {
-        law,
-        motion: Motion::Planar,
-        drive: Drive::Force,
-        lateral: Lateral::Guided,
-        harmonic: true,
-        input_support: true,
-    }
-}
 
 /// The driving input of a configuration: 8 N of force, or 1 mm/s of velocity.
 fn drive_input(c: &Config) -> (InputId, f64) {

@@ -1,6 +1,9 @@
 //! Independent truth for the tests: closed forms and reference integrations written here, not
-//! in the library. Nothing in this file calls the code under test.
+//! in the library. Nothing in this file calls the code under test (`configs` only names
+//! configurations).
 #![allow(dead_code, clippy::needless_range_loop)]
+
+pub mod configs;
 
 use std::f64::consts::PI;
 
