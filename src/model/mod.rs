@@ -11,6 +11,6 @@ mod ids;
 mod simulator;
 
 pub use config::{Config, Drive, Lateral, Law, Motion};
-pub use ids::{param_present, InputId, Inputs, OutputId, Outputs};
 pub use contact::canonical_time;
+pub use ids::{param_present, InputId, Inputs, OutputId, Outputs};
 pub use simulator::{build, SimError, Simulator, StepStats};
