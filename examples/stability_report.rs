@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use common::configs::{long_velocity, planar_force};
 use common::ExactDahl;
-use vibrofric::model::{build, Config, InputId, Law};
+use vibrofric::model::{build, Config, InputId, Law, OutputId};
 use vibrofric::physics::Params;
 
 const TOL: f64 = 1e-6;
@@ -203,21 +203,7 @@ fn main() {
                 break;
             }
             let o = sim.outputs();
-            finite &= [
-                o.f_fx,
-                o.f_fy,
-                o.x,
-                o.y,
-                o.v_x,
-                o.v_y,
-                o.s_x,
-                o.s_y,
-                o.f_mean,
-                o.reduction,
-                o.p_diss,
-            ]
-            .iter()
-            .all(|v| v.is_finite());
+            finite &= OutputId::ALL.iter().all(|id| id.get(&o).is_finite());
             if s_ss > 0.0 {
                 max_s = max_s.max(o.s_x.hypot(o.s_y) / s_ss);
             }

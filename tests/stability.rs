@@ -9,7 +9,7 @@ mod common;
 
 use common::configs::{long_velocity, planar_force};
 use common::ExactDahl;
-use vibrofric::model::{build, Config, Drive, InputId, Law, Simulator};
+use vibrofric::model::{build, Config, Drive, InputId, Law, OutputId, Simulator};
 use vibrofric::physics::Params;
 
 const TOL: f64 = 1e-6;
@@ -32,20 +32,12 @@ fn step_checked(sim: &mut dyn Simulator, dt: f64, n: usize, bounded: bool) {
     for k in 1..=n {
         sim.step_to(t0 + k as f64 * dt).unwrap();
         let o = sim.outputs();
-        for v in [
-            o.f_fx,
-            o.f_fy,
-            o.x,
-            o.y,
-            o.v_x,
-            o.v_y,
-            o.s_x,
-            o.s_y,
-            o.f_mean,
-            o.reduction,
-            o.p_diss,
-        ] {
-            assert!(v.is_finite(), "non-finite output at step {k}: {o:?}");
+        for id in OutputId::ALL {
+            assert!(
+                id.get(&o).is_finite(),
+                "non-finite {} at step {k}: {o:?}",
+                id.name()
+            );
         }
         if bounded {
             assert!(
