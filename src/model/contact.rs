@@ -11,7 +11,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::simulator::{SimError, Simulator, StepStats};
+use super::simulator::{Ode, SimError, Simulator, StepStats};
 use super::{Config, InputId, Inputs, Outputs};
 use crate::physics::{FrictionLaw, Harmonic, InputTrack, LawJacobian, ParamId, Params, Vector};
 use crate::solver::{OdeSystem, Radau5, Step, MAX_DIM, MAX_SWITCH};
@@ -903,6 +903,64 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
 
     fn clone_box(&self) -> Box<dyn Simulator> {
         Box::new(self.clone())
+    }
+
+    fn ode(&self) -> Box<dyn Ode> {
+        Box::new(ContactOde::<V, L, D, N> {
+            dynamics: self.dynamics,
+            input_support: self.config.input_support,
+            y: self.radau.y.into(),
+            scale: self.scale,
+        })
+    }
+}
+
+/// [`Ode`] view of a contact: its dynamics with the inputs frozen.
+struct ContactOde<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
+    dynamics: Dynamics<V, L, D>,
+    input_support: bool,
+    y: [f64; N],
+    scale: [f64; N],
+}
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> ContactOde<V, L, D, N> {
+    fn eval(&self, t: f64, y: &[f64]) -> Eval<V> {
+        let vs = self.dynamics.support_velocity(t, self.input_support);
+        self.dynamics.eval(t, y, vs)
+    }
+    fn system(&self) -> System<'_, V, L, D> {
+        System::new(&self.dynamics, self.input_support, &self.scale, 1.0)
+    }
+}
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Ode for ContactOde<V, L, D, N> {
+    fn dim(&self) -> usize {
+        N
+    }
+    fn state(&self) -> Vec<f64> {
+        self.y.to_vec()
+    }
+    fn scale(&self) -> Vec<f64> {
+        self.scale.to_vec()
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let f = OdeSystem::<N>::rhs(&self.system(), t, &SVector::from_column_slice(y));
+        dy.copy_from_slice(f.as_slice());
+    }
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) {
+        let y = SVector::<f64, N>::from_column_slice(y);
+        let j = OdeSystem::<N>::jacobian(&self.system(), t, &y).unwrap_or_else(SMatrix::zeros);
+        for r in 0..N {
+            for c in 0..N {
+                jac[r * N + c] = j[(r, c)];
+            }
+        }
+    }
+    fn f_fx(&self, t: f64, y: &[f64]) -> f64 {
+        self.eval(t, y).f.x()
+    }
+    fn v_rx(&self, t: f64, y: &[f64]) -> f64 {
+        self.eval(t, y).vr.x()
     }
 }
 

@@ -101,6 +101,30 @@ pub trait Simulator: Send {
     fn restore(&mut self, state: &[f64]) -> Result<(), SimError>;
     /// A copy of this simulator.
     fn clone_box(&self) -> Box<dyn Simulator>;
+    /// The equations this simulator integrates, with its inputs as they are set now (held),
+    /// as a plain ODE for another integrator.
+    fn ode(&self) -> Box<dyn Ode>;
+}
+
+/// The contact's equations as a plain ODE `dy/dt = f(t, y)`, with the inputs held: what another
+/// integrator (the report's peers, or a user's own solver) needs to solve the same problem.
+/// The state is `[s | body]` as in the simulator; harmonic source and input tracks are
+/// evaluated exactly as the simulator does.
+pub trait Ode: Send + Sync {
+    /// Number of state components.
+    fn dim(&self) -> usize;
+    /// The simulator's state when the view was taken.
+    fn state(&self) -> Vec<f64>;
+    /// Natural magnitude of each component (for absolute tolerances).
+    fn scale(&self) -> Vec<f64>;
+    /// `dy = f(t, y)`.
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
+    /// `∂f/∂y` at `(t, y)`, row-major `dim × dim`, in closed form.
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]);
+    /// Friction force `F_Fx` at `(t, y)`.
+    fn f_fx(&self, t: f64, y: &[f64]) -> f64;
+    /// `v_rx`, whose sign changes are the kinks of `f`.
+    fn v_rx(&self, t: f64, y: &[f64]) -> f64;
 }
 
 /// Builds the simulator for a configuration, with the body at rest at the origin, zero

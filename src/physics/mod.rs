@@ -4,6 +4,7 @@
 mod law;
 mod params;
 mod support;
+pub mod trig;
 mod vector;
 
 pub use law::{Dahl, Dupont, FrictionLaw, LawJacobian, LuGre, Mat2};

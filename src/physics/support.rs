@@ -33,7 +33,7 @@ impl Harmonic {
     /// that long runs keep full precision.
     #[inline(always)]
     pub fn theta(&self, t: f64) -> f64 {
-        self.theta_ref + TAU * (self.f * (t - self.t_ref)).fract()
+        self.theta_ref + TAU * super::trig::fract_floor(self.f * (t - self.t_ref))
     }
 
     /// Velocity amplitude `v_a = 2·pi·f·u0`.
@@ -45,13 +45,13 @@ impl Harmonic {
     /// Support velocity (x, y) at `t`.
     #[inline(always)]
     pub fn velocity(&self, t: f64) -> (f64, f64) {
-        let v = self.v_a() * self.theta(t).cos();
+        let v = self.v_a() * super::trig::cos(self.theta(t));
         (v * self.dir.0, v * self.dir.1)
     }
 
     /// Support displacement along its direction at `t`.
     pub fn displacement(&self, t: f64) -> f64 {
-        self.u0 * self.theta(t).sin()
+        self.u0 * super::trig::sin(self.theta(t))
     }
 
     /// Period `1/f`, or `None` when `f = 0`.

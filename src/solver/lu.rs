@@ -31,6 +31,7 @@ impl DenseLu {
 
     /// Factors in place: `P·A = L·U`. Every entry of the leading `n×n` block must have been
     /// set since the last factorisation (the matrix is reused without clearing).
+    #[inline(always)]
     pub fn factor(&mut self) {
         let n = self.n;
         self.singular = false;
@@ -68,6 +69,7 @@ impl DenseLu {
     }
 
     /// Solves `A·x = b` in place (after [`DenseLu::factor`]); false when `A` is singular.
+    #[inline(always)]
     pub fn solve(&self, b: &mut [f64]) -> bool {
         let n = self.n;
         if self.singular || b.len() != n {
