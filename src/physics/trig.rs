@@ -11,6 +11,9 @@
 //! on [−π/4, π/4], each within 1 ulp. The phase of the harmonic source lies in [0, 4π), far
 //! inside the range where the two-part reduction is exact to a few ulps of the result.
 
+// The constants are fdlibm's, digit for digit, so that they can be checked against it.
+#![allow(clippy::excessive_precision)]
+
 /// π/2 in three 33-bit parts with their tails (fdlibm's `pio2_1`, `pio2_1t`, ...).
 const PIO2_1: f64 = 1.570_796_326_734_125_614_17e+00;
 const PIO2_1T: f64 = 6.077_100_506_506_192_249_32e-11;
