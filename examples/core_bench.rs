@@ -48,18 +48,19 @@ fn main() {
         exact / p.f_c()
     );
     println!(
-        "{:>8} {:>12} {:>10} {:>8} {:>8} {:>8}",
-        "tol", "rel.err", "time[ms]", "steps", "rejct", "events"
+        "{:>8} {:>12} {:>10} {:>8} {:>8} {:>8} {:>8}",
+        "tol", "rel.err", "time[ms]", "steps", "rejct", "events", "jacs"
     );
     for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
         let (fm, t, st) = run(p, tol);
         println!(
-            "{tol:>8.0e} {:>12.3e} {:>10.3} {:>8} {:>8} {:>8}",
+            "{tol:>8.0e} {:>12.3e} {:>10.3} {:>8} {:>8} {:>8} {:>8}",
             ((fm - exact) / exact).abs(),
             t * 1e3,
             st.steps,
             st.rejected,
-            st.events
+            st.events,
+            st.jacobians
         );
     }
     for k_t in [1e8, 1e10, 1e12] {
