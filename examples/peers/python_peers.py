@@ -506,7 +506,7 @@ def main(argv=None):
     ap.add_argument("--budget", type=float, default=20.0,
                     help="stop tightening a (case, solver) series after a run longer than this [s]")
     ap.add_argument("--run-cap", type=float, default=None,
-                    help="abort a single scipy run after this wall time [s] (default 3×budget)")
+                    help="abort a single run (scipy, or fmpy through its timeout) after this wall time [s] (default 3×budget)")
     ap.add_argument("--only", action="append", default=None,
                     help="run only the cases whose name contains this substring (repeatable)")
     ap.add_argument("--exact", action="store_true", help="--only matches whole case names")
