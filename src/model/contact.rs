@@ -14,7 +14,7 @@ use nalgebra::{SMatrix, SVector};
 use super::simulator::{Ode, SimError, Simulator, StepStats};
 use super::{Config, InputId, Inputs, Outputs};
 use crate::physics::{FrictionLaw, Harmonic, InputTrack, LawJacobian, ParamId, Params, Vector};
-use crate::solver::{OdeSystem, Radau5, Step, MAX_DIM, MAX_SWITCH};
+use crate::solver::{OdeSystem, Radau5, Step, Workspace, MAX_DIM, MAX_SWITCH};
 
 /// Forces and motions the drive needs at one instant.
 #[derive(Clone, Copy, Debug)]
@@ -340,15 +340,10 @@ impl<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> System<'a, V, L, D> {
     fn eval(&self, t: f64, y: &[f64]) -> Eval<V> {
         self.dynamics.eval(t, y, self.support(t))
     }
-}
 
-impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
-    for System<'_, V, L, D>
-{
+    /// `dy/dt` from an evaluation at `y`.
     #[inline(always)]
-    fn rhs(&self, t: f64, y: &SVector<f64, N>) -> SVector<f64, N> {
-        let y = y.as_slice();
-        let e = self.eval(t, y);
+    fn rhs_at<const N: usize>(&self, e: &Eval<V>, y: &[f64]) -> SVector<f64, N> {
         let mut out = SVector::<f64, N>::zeros();
         let o = out.as_mut_slice();
         e.ds.write(o);
@@ -358,6 +353,30 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
                 .body_rate(&y[V::DIM..], e.f, &e.drive, &mut o[V::DIM..]);
         }
         out
+    }
+
+    /// `∂(dy/dt)/∂y` from an evaluation.
+    #[inline(always)]
+    fn jacobian_at<const N: usize>(&self, e: &Eval<V>) -> SMatrix<f64, N, N> {
+        let lj = self.dynamics.law.jacobian(e.s, e.vr, e.ds);
+        let mut jac: Jac = [[0.0; MAX_DIM]; MAX_DIM];
+        for i in 0..V::DIM {
+            for j in 0..V::DIM {
+                jac[i][j] = lj.rate_s[i][j];
+            }
+        }
+        self.dynamics.drive.jacobian(&lj, &mut jac);
+        SMatrix::from_fn(|i, j| jac[i][j])
+    }
+}
+
+impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
+    for System<'_, V, L, D>
+{
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &SVector<f64, N>) -> SVector<f64, N> {
+        let y = y.as_slice();
+        self.rhs_at(&self.eval(t, y), y)
     }
 
     fn scale(&self) -> SVector<f64, N> {
@@ -382,16 +401,24 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
 
     /// In closed form from the law's partial derivatives and the drive's structure.
     fn jacobian(&self, t: f64, y: &SVector<f64, N>) -> Option<SMatrix<f64, N, N>> {
+        Some(self.jacobian_at(&self.eval(t, y.as_slice())))
+    }
+
+    /// One evaluation serves both.
+    #[inline(always)]
+    fn rhs_jacobian(
+        &self,
+        t: f64,
+        y: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, Option<SMatrix<f64, N, N>>) {
         let e = self.eval(t, y.as_slice());
-        let lj = self.dynamics.law.jacobian(e.s, e.vr, e.ds);
-        let mut jac: Jac = [[0.0; MAX_DIM]; MAX_DIM];
-        for i in 0..V::DIM {
-            for j in 0..V::DIM {
-                jac[i][j] = lj.rate_s[i][j];
-            }
-        }
-        self.dynamics.drive.jacobian(&lj, &mut jac);
-        Some(SMatrix::from_fn(|i, j| jac[i][j]))
+        (self.rhs_at(&e, y.as_slice()), Some(self.jacobian_at(&e)))
+    }
+
+    #[inline(always)]
+    fn observe(&self, t: f64, y: &SVector<f64, N>) -> ([f64; MAX_SWITCH], f64) {
+        let e = self.eval(t, y.as_slice());
+        ([e.vr.x(), e.s.dot(e.vr)], e.f.x())
     }
 
     /// `F_Fx`, whose integral over each window is the mean friction force.
@@ -483,6 +510,8 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     /// Natural magnitude of the friction force, for the error of its integral.
     force_scale: f64,
     radau: Radau5<N>,
+    /// The integrator's scratch matrices, kept across communication steps.
+    work: Workspace,
     window: Window,
 }
 
@@ -523,6 +552,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             scale: [0.0; N],
             force_scale: 0.0,
             radau: Radau5::new(t_start, SVector::zeros(), tolerance),
+            work: Workspace::new(N),
             window: Window {
                 origin: t_start,
                 len: 0.0,
@@ -596,7 +626,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         );
         let mut acc = 0.0;
         self.radau
-            .integrate(&sys, t_target, h_max, |step: &Step<N>| acc += step.quad)
+            .integrate_with(&mut self.work, &sys, t_target, h_max, |step: &Step<N>| {
+                acc += step.quad
+            })
             .map_err(SimError::Solver)?;
         self.window.acc += acc;
         Ok(())

@@ -9,4 +9,6 @@
 mod lu;
 mod radau;
 
-pub use radau::{OdeSystem, Radau5, SolverError, SolverStats, Step, B, C, MAX_DIM, MAX_SWITCH};
+pub use radau::{
+    OdeSystem, Radau5, SolverError, SolverStats, Step, Workspace, B, C, MAX_DIM, MAX_SWITCH,
+};

@@ -43,6 +43,21 @@ pub trait OdeSystem<const N: usize> {
     fn jacobian(&self, _t: f64, _y: &SVector<f64, N>) -> Option<SMatrix<f64, N, N>> {
         None
     }
+
+    /// The switching functions and the quadrature's integrand together, for systems that
+    /// share work between them.
+    fn observe(&self, t: f64, y: &SVector<f64, N>) -> ([f64; MAX_SWITCH], f64) {
+        (self.switch(t, y), self.quadrature(t, y))
+    }
+
+    /// `f(t, y)` and the Jacobian together, for systems that share work between them.
+    fn rhs_jacobian(
+        &self,
+        t: f64,
+        y: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, Option<SMatrix<f64, N, N>>) {
+        (self.rhs(t, y), self.jacobian(t, y))
+    }
     /// A scalar `q(t, y)` whose integral over each step the integrator returns in
     /// [`Step::quad`], with its error bounded like the state's.
     fn quadrature(&self, _t: f64, _y: &SVector<f64, N>) -> f64 {
@@ -145,6 +160,25 @@ const SAFE: f64 = 0.9;
 const FAC_MAX_GROW: f64 = 8.0;
 const FAC_MAX_SHRINK: f64 = 0.2;
 
+/// The Newton and error-estimate matrices (on the stack, sized for the largest state), refilled
+/// entry by entry at every attempt: scratch space, not part of the integrator's state.
+#[derive(Clone, Debug)]
+pub struct Workspace {
+    n: usize,
+    m: DenseLu,
+    e1: DenseLu,
+}
+
+impl Workspace {
+    pub fn new(n: usize) -> Self {
+        Workspace {
+            n,
+            m: DenseLu::zeros(3 * n),
+            e1: DenseLu::zeros(n),
+        }
+    }
+}
+
 /// The integrator's complete state. `Copy`, so that a snapshot is a plain copy.
 #[derive(Clone, Copy, Debug)]
 pub struct Radau5<const N: usize> {
@@ -223,18 +257,19 @@ impl<const N: usize> Radau5<N> {
         SVector::from_fn(|i, _| self.rtol * (nominal[i] + y[i].abs()))
     }
 
-    /// The system's Jacobian at `(t, y)`, or forward differences with `f = f(t, y)`.
-    fn jacobian<S: OdeSystem<N>>(
+    /// `f(t, y)` and the system's Jacobian there, or forward differences.
+    fn rhs_jacobian<S: OdeSystem<N>>(
         &mut self,
         sys: &S,
         t: f64,
         y: &SVector<f64, N>,
-        f: &SVector<f64, N>,
         nominal: &SVector<f64, N>,
-    ) -> SMatrix<f64, N, N> {
+    ) -> (SVector<f64, N>, SMatrix<f64, N, N>) {
         self.stats.jacobians += 1;
-        if let Some(jac) = sys.jacobian(t, y) {
-            return jac;
+        self.stats.rhs_evals += 1;
+        let (f, jac) = sys.rhs_jacobian(t, y);
+        if let Some(jac) = jac {
+            return (f, jac);
         }
         let mut jac = SMatrix::<f64, N, N>::zeros();
         let mut yp = *y;
@@ -247,7 +282,7 @@ impl<const N: usize> Radau5<N> {
             jac.set_column(j, &((f1 - f) / delta));
         }
         self.stats.rhs_evals += N as u64;
-        jac
+        (f, jac)
     }
 
     /// Evaluates the dense output of a step ending in `y_new` at fraction `theta` of it.
@@ -263,8 +298,23 @@ impl<const N: usize> Radau5<N> {
         sys: &S,
         t_end: f64,
         h_max: f64,
+        on_step: impl FnMut(&Step<N>),
+    ) -> Result<(), SolverError> {
+        self.integrate_with(&mut Workspace::new(N), sys, t_end, h_max, on_step)
+    }
+
+    /// [`Radau5::integrate`] with the linear-algebra workspace supplied by the caller, so that
+    /// short calls (small communication steps) do not clear it every time.
+    pub fn integrate_with<S: OdeSystem<N>>(
+        &mut self,
+        work: &mut Workspace,
+        sys: &S,
+        t_end: f64,
+        h_max: f64,
         mut on_step: impl FnMut(&Step<N>),
     ) -> Result<(), SolverError> {
+        assert_eq!(work.n, N, "workspace for another dimension");
+        let Workspace { m, e1, .. } = work;
         let nominal = sys.scale();
         let q_scale = sys.quadrature_scale();
         let n_switch = sys.n_switch().min(MAX_SWITCH);
@@ -286,12 +336,6 @@ impl<const N: usize> Radau5<N> {
         if self.h <= 0.0 {
             self.h = self.initial_step(&f0, &nominal, t_end - self.t);
         }
-        // Jacobian at the step start, for the error estimate; valid until the state changes.
-        let (t, y) = (self.t, self.y);
-        let mut jac0 = self.jacobian(sys, t, &y, &f0, &nominal);
-        // Newton and error-estimate matrices, refilled entry by entry at every attempt.
-        let mut m = DenseLu::zeros(3 * N);
-        let mut e1 = DenseLu::zeros(N);
         let mut reject = false;
         // An event the current attempt must end on (time, function), found on a previous
         // attempt's dense output.
@@ -332,10 +376,8 @@ impl<const N: usize> Radau5<N> {
             let mut fz = [SVector::<f64, N>::zeros(); 3];
             for i in 0..3 {
                 let (ti, yi) = (self.t + C[i] * h, self.y + z[i]);
-                fz[i] = sys.rhs(ti, &yi);
-                jac[i] = self.jacobian(sys, ti, &yi, &fz[i], &nominal);
+                (fz[i], jac[i]) = self.rhs_jacobian(sys, ti, &yi, &nominal);
             }
-            self.stats.rhs_evals += 3;
             for i in 0..3 {
                 for j in 0..3 {
                     for r in 0..N {
@@ -431,13 +473,20 @@ impl<const N: usize> Radau5<N> {
             let cont1 = (ak - cont0) / C1M1;
             let cont = [cont0, cont1, cont1 - acont3];
 
+            // Switching functions and the quadrature's integrand at the stages.
+            let observed: [([f64; MAX_SWITCH], f64); 3] = if n_switch > 0 || q_scale > 0.0 {
+                std::array::from_fn(|i| sys.observe(self.t + C[i] * h, &(self.y + z[i])))
+            } else {
+                [([0.0; MAX_SWITCH], 0.0); 3]
+            };
+
             // Switching events.
             let mut event_here = None;
             if n_switch > 0 {
                 if let Some((_, k)) = event_target {
                     event_here = Some(k);
                 } else if let Some((theta_e, k)) =
-                    self.find_event(sys, n_switch, h, &z, &y_new, &cont)
+                    self.find_event(sys, n_switch, h, &observed, &y_new, &cont)
                 {
                     if theta_e < 1.0 - 1e-12 {
                         let te = self.t + theta_e * h;
@@ -456,11 +505,12 @@ impl<const N: usize> Radau5<N> {
                 }
             }
 
-            // Error estimate (Hairer & Wanner IV.8, with the Jacobian at the step start).
+            // Error estimate (Hairer & Wanner IV.8). Its filter `(U1/h − J)⁻¹` needs only an
+            // approximate Jacobian (RADAU5 keeps one for many steps): the first stage's.
             for r in 0..N {
                 for c in 0..N {
                     let d = if r == c { U1 / h } else { 0.0 };
-                    e1.set(r, c, d - jac0[(r, c)]);
+                    e1.set(r, c, d - jac[0][(r, c)]);
                 }
             }
             e1.factor();
@@ -478,8 +528,7 @@ impl<const N: usize> Radau5<N> {
             // The quadrature: collocation integral and its embedded error estimate.
             let mut quad = 0.0;
             if q_scale > 0.0 {
-                let q: [f64; 3] =
-                    std::array::from_fn(|i| sys.quadrature(self.t + C[i] * h, &(self.y + z[i])));
+                let q: [f64; 3] = std::array::from_fn(|i| observed[i].1);
                 let zq: [f64; 3] =
                     std::array::from_fn(|i| h * (A[i][0] * q[0] + A[i][1] * q[1] + A[i][2] * q[2]));
                 quad = zq[2];
@@ -555,10 +604,6 @@ impl<const N: usize> Radau5<N> {
             f0 = sys.rhs(self.t, &self.y);
             q0 = sys.quadrature(self.t, &self.y);
             self.stats.rhs_evals += 1;
-            if self.t < t_end {
-                let (t, y) = (self.t, self.y);
-                jac0 = self.jacobian(sys, t, &y, &f0, &nominal);
-            }
         }
         Ok(())
     }
@@ -570,7 +615,7 @@ impl<const N: usize> Radau5<N> {
         sys: &S,
         n_switch: usize,
         h: f64,
-        z: &[SVector<f64, N>; 3],
+        observed: &[([f64; MAX_SWITCH], f64); 3],
         y_new: &SVector<f64, N>,
         cont: &[SVector<f64, N>; 3],
     ) -> Option<(f64, usize)> {
@@ -578,7 +623,7 @@ impl<const N: usize> Radau5<N> {
         let mut a = 0.0;
         let mut ga = [0.0f64; MAX_SWITCH];
         for (i, &c) in C.iter().enumerate() {
-            let gc = sys.switch(self.t + c * h, &(self.y + z[i]));
+            let gc = observed[i].0;
             let mut best: Option<(f64, usize)> = None;
             for k in 0..n_switch {
                 if gc[k] * self.switch_sign[k] < 0.0 {
