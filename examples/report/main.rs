@@ -1,0 +1,960 @@
+//! Work–precision report (issue 5): error against CPU time for vibrofric and the solvers a user
+//! would otherwise pick, on the same equations, in the same run.
+//!
+//! ```text
+//! cargo run --release --example report                 # everything (about 20 min)
+//! cargo run --release --example report -- --quick      # smoke run: 2 tolerances, short runs
+//! cargo run --release --example report -- --cases-only # reports/cases.json and the truths only
+//! cargo run --release --example report -- --skip-python  # reuse reports/peers_python.csv
+//! cargo run --release --example report -- --only paper-longitudinal
+//! ```
+//!
+//! Writes to `reports/`:
+//! - `cases.json` and `truth/<case>.csv`: the cases and their reference solutions, read by the
+//!   Python peers (`examples/peers/python_peers.py`, scipy and the FMU through fmpy);
+//! - `work_precision.csv`: every measurement (vibrofric, the Rust peers, the Python peers);
+//! - `work_precision/<case>.svg`: error against CPU time, log–log, one plot per case;
+//! - `work_precision.md`: the summary with the truths' own errors, the ratios of run times at
+//!   equal error, and the targets.
+//!
+//! Every solver gets the same task: integrate the case from rest to `t_end`, give `F_Fx` on the
+//! sample grid (every [`SAMPLE_DT`]) and `F_mean` over the last vibration period. Errors:
+//! `|F_mean − truth|/|truth|` and `max_k |F_Fx(t_k) − truth_k| / F_C`.
+
+#[path = "../../tests/common/mod.rs"]
+mod common;
+mod peers;
+mod plot;
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use vibrofric::description::Scene;
+use vibrofric::model::{build, canonical_time, Config, Drive, InputId, Law, Motion, Simulator};
+use vibrofric::physics::{ParamId, Params};
+
+/// Spacing of the `F_Fx` samples: five per period at 2 kHz.
+const SAMPLE_DT: f64 = 1e-4;
+/// vibrofric's tolerances, and the peers'.
+const TOLERANCES: [f64; 8] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10];
+/// Tolerance of the reference integration where no exact solution exists.
+const TRUTH_TOL: f64 = 1e-12;
+/// Stiff variant of every case.
+const STIFF_K_T: f64 = 1e11;
+
+/// Options from the command line.
+#[derive(Default)]
+struct Options {
+    quick: bool,
+    cases_only: bool,
+    skip_python: bool,
+    only: Option<String>,
+    budget_s: f64,
+}
+
+fn options() -> Options {
+    let mut o = Options {
+        budget_s: 20.0,
+        ..Default::default()
+    };
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--quick" => o.quick = true,
+            "--cases-only" => o.cases_only = true,
+            "--skip-python" => o.skip_python = true,
+            "--only" => o.only = args.next(),
+            "--budget" => {
+                o.budget_s = args
+                    .next()
+                    .and_then(|v| v.parse().ok())
+                    .expect("--budget <seconds>")
+            }
+            other => panic!("unknown option {other}; see the doc comment of examples/report"),
+        }
+    }
+    o
+}
+
+/// One case: a scene, optionally stiffened, run from rest to `t_end`.
+struct Case {
+    name: String,
+    scene: Scene,
+    params: Params,
+    /// Start values that differ from the scene's (for the FMU).
+    fmu_start: Vec<(&'static str, f64)>,
+    t_end: f64,
+    period: f64,
+}
+
+impl Case {
+    fn config(&self) -> Config {
+        self.scene.config
+    }
+
+    fn f_c(&self) -> f64 {
+        self.params.f_c()
+    }
+
+    /// A simulator at `t = 0` with the scene's inputs.
+    fn simulator(&self, tol: f64) -> Box<dyn Simulator> {
+        let mut sim = build(self.config(), self.params, 0.0, tol).expect("valid case");
+        for id in InputId::ALL {
+            if id.present(&self.config()) {
+                sim.set_input(id, id.get(&self.scene.inputs)).unwrap();
+            }
+        }
+        sim
+    }
+
+    fn n_samples(&self) -> usize {
+        (self.t_end / SAMPLE_DT).round() as usize + 1
+    }
+
+    fn sample_time(k: usize) -> f64 {
+        canonical_time(k as f64 * SAMPLE_DT)
+    }
+
+    /// The exact solution applies: longitudinal Dahl (kappa = 1) under velocity drive, harmonic
+    /// source with phase 0, no input support motion.
+    fn exact(&self) -> Option<common::ExactDahl> {
+        let c = self.config();
+        let p = &self.params;
+        (c.law == Law::Dahl
+            && c.motion == Motion::Longitudinal
+            && c.drive == Drive::Velocity
+            && c.harmonic
+            && !c.input_support
+            && p.kappa == 1.0
+            && p.phase == 0.0)
+            .then(|| common::ExactDahl {
+                v_d: self.scene.inputs.v_d,
+                u0: p.u0,
+                omega: p.omega(),
+                s_ss: p.f_c() / p.k_t,
+                k_t: p.k_t,
+            })
+    }
+}
+
+fn cases(o: &Options) -> Vec<Case> {
+    let scenes = [
+        ("paper-longitudinal", 1.0),
+        ("paper-transverse", 0.05),
+        ("paper-transverse-guided", 0.05),
+        ("contact", 0.05),
+        ("contact-lugre", 0.05),
+        ("contact-dupont", 0.05),
+    ];
+    let mut out = vec![];
+    for (stem, t_end) in scenes {
+        let scene = Scene::load(Path::new(&format!("scenes/{stem}.toml")))
+            .unwrap_or_else(|e| panic!("{e}"));
+        for stiff in [false, true] {
+            let mut params = scene.start;
+            let mut fmu_start = vec![];
+            let mut name = stem.to_string();
+            if stiff {
+                params.k_t = STIFF_K_T;
+                fmu_start.push((ParamId::KT.name(), STIFF_K_T));
+                name.push_str("-k1e11");
+            }
+            let t_end: f64 = if o.quick {
+                f64::min(t_end, 0.01)
+            } else {
+                t_end
+            };
+            let case = Case {
+                name,
+                scene: scene.clone(),
+                params,
+                fmu_start,
+                t_end,
+                period: 1.0 / params.f,
+            };
+            if o.only
+                .as_ref()
+                .is_none_or(|s| case.name.contains(s.as_str()))
+            {
+                out.push(case);
+            }
+        }
+    }
+    out
+}
+
+/// A reference solution: `F_Fx` on the sample grid and `F_mean` over the last period.
+struct Truth {
+    samples: Vec<f64>,
+    f_mean: f64,
+    method: String,
+    /// Estimate of the truth's own error in `F_mean` (relative) and in `F_Fx` (relative to F_C).
+    f_mean_err: f64,
+    ffx_err: f64,
+}
+
+/// `F_Fx` on the sample grid and `F_mean` at `t_end` from vibrofric at `tol`, with the time of
+/// the whole run.
+fn run_vibrofric(case: &Case, tol: f64) -> (Vec<f64>, f64, f64, u64) {
+    let start = Instant::now();
+    let mut sim = case.simulator(tol);
+    let mut samples = Vec::with_capacity(case.n_samples());
+    samples.push(sim.outputs().f_fx);
+    for k in 1..case.n_samples() {
+        sim.step_to(Case::sample_time(k)).expect("vibrofric run");
+        samples.push(sim.outputs().f_fx);
+    }
+    let f_mean = sim.outputs().f_mean;
+    let elapsed = start.elapsed().as_secs_f64();
+    (samples, f_mean, elapsed, sim.stats().steps)
+}
+
+/// `F_mean` at `t_end` from vibrofric in one communication step, with the run time.
+fn run_vibrofric_one_step(case: &Case, tol: f64) -> (f64, f64, u64) {
+    let start = Instant::now();
+    let mut sim = case.simulator(tol);
+    sim.step_to(case.t_end).expect("vibrofric run");
+    let f_mean = sim.outputs().f_mean;
+    (f_mean, start.elapsed().as_secs_f64(), sim.stats().steps)
+}
+
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+fn truth(case: &Case) -> Truth {
+    let f_c = case.f_c();
+    let (radau, radau_mean, _, _) = run_vibrofric(case, TRUTH_TOL);
+    let (radau_loose, radau_loose_mean, _, _) = run_vibrofric(case, 10.0 * TRUTH_TOL);
+    if let Some(exact) = case.exact() {
+        // Exact: piecewise exponential between the sign changes of v_r, advanced from sample
+        // to sample; F_mean over the last period by adaptive Gauss–Kronrod in local time.
+        let mut samples = vec![0.0];
+        let mut s = 0.0;
+        for k in 1..case.n_samples() {
+            s = exact
+                .advance(Case::sample_time(k - 1), s, Case::sample_time(k), 0.0)
+                .0;
+            samples.push(case.params.k_t * s);
+        }
+        let periods = (case.t_end / case.period).round() as usize;
+        let f_mean = exact.f_mean_after_periods(periods);
+        let vs_radau = ((radau_mean - f_mean) / f_mean).abs();
+        Truth {
+            method: format!(
+                "exact (piecewise exponential, Gauss–Kronrod to 1e-15); vibrofric at tol {TRUTH_TOL:.0e} \
+                 differs by {vs_radau:.1e} in F_mean and {:.1e}·F_C in F_Fx",
+                max_diff(&radau, &samples) / f_c
+            ),
+            samples,
+            f_mean,
+            f_mean_err: 1e-13,
+            ffx_err: 1e-14,
+        }
+    } else {
+        let self_mean = ((radau_mean - radau_loose_mean) / radau_mean).abs();
+        let self_ffx = max_diff(&radau, &radau_loose) / f_c;
+        Truth {
+            method: format!(
+                "vibrofric at tol {TRUTH_TOL:.0e}; against tol {:.0e}: {self_mean:.1e} in F_mean, \
+                 {self_ffx:.1e}·F_C in F_Fx; independent cross-checks below",
+                10.0 * TRUTH_TOL
+            ),
+            samples: radau,
+            f_mean: radau_mean,
+            f_mean_err: self_mean,
+            ffx_err: self_ffx,
+        }
+    }
+}
+
+/// One measurement: a solver on a case at a tolerance.
+#[derive(Clone, Debug)]
+struct Row {
+    case: String,
+    solver: String,
+    tol: f64,
+    comm_step: Option<f64>,
+    cpu_s: f64,
+    f_mean: f64,
+    f_mean_rel_err: f64,
+    max_ffx_err: f64,
+    steps: u64,
+    status: String,
+}
+
+const CSV_HEADER: &str =
+    "case,solver,tol,comm_step,cpu_s,f_mean,f_mean_rel_err,max_ffx_err,steps,status";
+
+fn fmt_opt(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:e}")
+    } else {
+        String::new()
+    }
+}
+
+impl Row {
+    fn csv(&self) -> String {
+        format!(
+            "{},{},{:e},{},{:e},{},{},{},{},{}",
+            self.case,
+            self.solver,
+            self.tol,
+            self.comm_step.map(|h| format!("{h:e}")).unwrap_or_default(),
+            self.cpu_s,
+            fmt_opt(self.f_mean),
+            fmt_opt(self.f_mean_rel_err),
+            fmt_opt(self.max_ffx_err),
+            self.steps,
+            self.status
+        )
+    }
+
+    fn parse(line: &str) -> Option<Row> {
+        let f: Vec<&str> = line.split(',').collect();
+        if f.len() < 10 {
+            return None;
+        }
+        let num = |s: &str| s.trim().parse::<f64>().unwrap_or(f64::NAN);
+        Some(Row {
+            case: f[0].to_string(),
+            solver: f[1].to_string(),
+            tol: num(f[2]),
+            comm_step: f[3].trim().parse().ok(),
+            cpu_s: num(f[4]),
+            f_mean: num(f[5]),
+            f_mean_rel_err: num(f[6]),
+            max_ffx_err: num(f[7]),
+            steps: f[8].trim().parse().unwrap_or(0),
+            status: f[9..].join(","),
+        })
+    }
+
+    fn ok(&self) -> bool {
+        self.status == "ok"
+    }
+}
+
+/// Best of `repeats` timings (the machine's noise only ever adds time).
+fn best_of<T>(repeats: usize, mut f: impl FnMut() -> (T, f64)) -> (T, f64) {
+    let (mut out, mut best) = f();
+    for _ in 1..repeats {
+        let (o, t) = f();
+        if t < best {
+            best = t;
+            out = o;
+        }
+    }
+    (out, best)
+}
+
+fn measure_vibrofric(case: &Case, truth: &Truth, tols: &[f64], rows: &mut Vec<Row>) {
+    let f_c = case.f_c();
+    for &tol in tols {
+        let ((samples, f_mean, steps), t) = best_of(3, || {
+            let (s, m, t, n) = run_vibrofric(case, tol);
+            ((s, m, n), t)
+        });
+        rows.push(Row {
+            case: case.name.clone(),
+            solver: "vibrofric".into(),
+            tol,
+            comm_step: Some(SAMPLE_DT),
+            cpu_s: t,
+            f_mean,
+            f_mean_rel_err: ((f_mean - truth.f_mean) / truth.f_mean).abs(),
+            max_ffx_err: max_diff(&samples, &truth.samples) / f_c,
+            steps,
+            status: "ok".into(),
+        });
+        let ((f_mean, steps), t) = best_of(3, || {
+            let (m, t, n) = run_vibrofric_one_step(case, tol);
+            ((m, n), t)
+        });
+        rows.push(Row {
+            case: case.name.clone(),
+            solver: "vibrofric-1step".into(),
+            tol,
+            comm_step: Some(case.t_end),
+            cpu_s: t,
+            f_mean,
+            f_mean_rel_err: ((f_mean - truth.f_mean) / truth.f_mean).abs(),
+            max_ffx_err: f64::NAN,
+            steps,
+            status: "ok".into(),
+        });
+    }
+}
+
+fn measure_rust_peers(case: &Case, truth: &Truth, o: &Options, tols: &[f64], rows: &mut Vec<Row>) {
+    let f_c = case.f_c();
+    let ode = case.simulator(1e-6).ode();
+    for peer in peers::RustPeer::ALL {
+        let mut over_budget = false;
+        for &tol in tols {
+            if over_budget {
+                rows.push(Row {
+                    case: case.name.clone(),
+                    solver: peer.name().into(),
+                    tol,
+                    comm_step: None,
+                    cpu_s: f64::NAN,
+                    f_mean: f64::NAN,
+                    f_mean_rel_err: f64::NAN,
+                    max_ffx_err: f64::NAN,
+                    steps: 0,
+                    status: "skipped".into(),
+                });
+                continue;
+            }
+            let run = peers::run(
+                peer,
+                ode.as_ref(),
+                case.t_end,
+                SAMPLE_DT,
+                case.period,
+                f_c,
+                tol,
+                o.budget_s,
+            );
+            let ok = run.status.is_ok() && run.samples.len() == truth.samples.len();
+            if run.cpu_s > o.budget_s || !ok {
+                over_budget = true;
+            }
+            rows.push(Row {
+                case: case.name.clone(),
+                solver: peer.name().into(),
+                tol,
+                comm_step: None,
+                cpu_s: run.cpu_s,
+                f_mean: run.f_mean,
+                f_mean_rel_err: ((run.f_mean - truth.f_mean) / truth.f_mean).abs(),
+                max_ffx_err: if ok {
+                    max_diff(&run.samples, &truth.samples) / f_c
+                } else {
+                    f64::NAN
+                },
+                steps: run.steps,
+                status: match run.status {
+                    Ok(()) if ok => "ok".into(),
+                    Ok(()) => "failed:sample count".into(),
+                    Err(e) => format!("failed:{}", e.replace(',', ";")),
+                },
+            });
+        }
+    }
+}
+
+/// `cases.json` for the Python peers.
+fn write_cases_json(cases: &[Case], truths: &[Truth], dir: &Path, tols: &[f64]) {
+    let mut j = String::new();
+    let list = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    writeln!(
+        j,
+        "{{\n  \"sample_dt\": {SAMPLE_DT:e},\n  \"tolerances\": [{}],\n  \"cases\": [",
+        list(tols)
+    )
+    .unwrap();
+    for (i, (c, t)) in cases.iter().zip(truths).enumerate() {
+        let cfg = c.config();
+        let params: Vec<String> = ParamId::ALL
+            .iter()
+            .map(|id| format!("\"{}\": {:e}", id.name(), id.get(&c.params)))
+            .collect();
+        let inputs: Vec<String> = InputId::ALL
+            .iter()
+            .map(|id| format!("\"{}\": {:e}", id.name(), id.get(&c.scene.inputs)))
+            .collect();
+        let start: Vec<String> = c
+            .fmu_start
+            .iter()
+            .map(|(n, v)| format!("\"{n}\": {v:e}"))
+            .collect();
+        use vibrofric::description::scene::{drive_name, lateral_name, law_name, motion_name};
+        write!(
+            j,
+            "    {{\"name\": \"{}\", \"fmu\": \"dist/{}.fmu\",\n     \"config\": {{\"law\": \"{}\", \"motion\": \"{}\", \"drive\": \"{}\", \"lateral\": \"{}\", \"harmonic\": {}, \"input_support\": {}}},\n     \"params\": {{{}}},\n     \"fmu_start\": {{{}}},\n     \"inputs\": {{{}}},\n     \"t_end\": {:e}, \"period\": {:e},\n     \"truth\": {{\"f_mean\": {:e}, \"f_c\": {:e}, \"samples\": \"reports/truth/{}.csv\", \"error\": {:e}, \"method\": \"{}\"}}}}",
+            c.name,
+            c.scene.model_identifier,
+            law_name(cfg.law),
+            motion_name(cfg.motion),
+            drive_name(cfg.drive),
+            lateral_name(cfg.lateral),
+            cfg.harmonic,
+            cfg.input_support,
+            params.join(", "),
+            start.join(", "),
+            inputs.join(", "),
+            c.t_end,
+            c.period,
+            t.f_mean,
+            c.f_c(),
+            c.name,
+            t.f_mean_err,
+            t.method.replace('"', "'"),
+        )
+        .unwrap();
+        j.push_str(if i + 1 < cases.len() { ",\n" } else { "\n" });
+    }
+    j.push_str("  ]\n}\n");
+    std::fs::write(dir.join("cases.json"), j).unwrap();
+    let tdir = dir.join("truth");
+    std::fs::create_dir_all(&tdir).unwrap();
+    for (c, t) in cases.iter().zip(truths) {
+        let mut s = String::from("t,F_Fx\n");
+        for (k, v) in t.samples.iter().enumerate() {
+            writeln!(s, "{:e},{v:e}", Case::sample_time(k)).unwrap();
+        }
+        std::fs::write(tdir.join(format!("{}.csv", c.name)), s).unwrap();
+    }
+}
+
+fn run_python_peers(o: &Options, dir: &Path) -> Result<(), String> {
+    let python = PathBuf::from(".venv/bin/python");
+    if !python.exists() {
+        return Err("no .venv (run `bash tests/all.sh` once to make it)".into());
+    }
+    if !Path::new("dist").exists() {
+        return Err("no dist/ (run `cargo run --release` to export the FMUs)".into());
+    }
+    let mut cmd = std::process::Command::new(python);
+    cmd.arg("examples/peers/python_peers.py")
+        .arg("--cases")
+        .arg(dir.join("cases.json"))
+        .arg("--out")
+        .arg(dir)
+        .arg("--budget")
+        .arg(o.budget_s.to_string());
+    if o.quick {
+        cmd.arg("--quick");
+    }
+    let status = cmd.status().map_err(|e| e.to_string())?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("python peers exited with {status}"))
+    }
+}
+
+fn read_rows(path: &Path) -> Vec<Row> {
+    std::fs::read_to_string(path)
+        .map(|s| s.lines().skip(1).filter_map(Row::parse).collect())
+        .unwrap_or_default()
+}
+
+fn main() {
+    let o = options();
+    let dir = PathBuf::from("reports");
+    std::fs::create_dir_all(dir.join("work_precision")).unwrap();
+    let tols: Vec<f64> = if o.quick {
+        vec![1e-4, 1e-8]
+    } else {
+        TOLERANCES.to_vec()
+    };
+    let cases = cases(&o);
+
+    eprintln!("truths ...");
+    let truths: Vec<Truth> = cases
+        .iter()
+        .map(|c| {
+            let t = truth(c);
+            eprintln!("  {}: F_mean = {:.12e} N; {}", c.name, t.f_mean, t.method);
+            t
+        })
+        .collect();
+    write_cases_json(&cases, &truths, &dir, &tols);
+    if o.cases_only {
+        return;
+    }
+
+    let mut rows = vec![];
+    for (case, truth) in cases.iter().zip(&truths) {
+        eprintln!("{} ...", case.name);
+        measure_vibrofric(case, truth, &tols, &mut rows);
+        measure_rust_peers(case, truth, &o, &tols, &mut rows);
+    }
+
+    let python = if o.skip_python {
+        Err("skipped (--skip-python); earlier results reused".to_string())
+    } else {
+        run_python_peers(&o, &dir)
+    };
+    if let Err(e) = &python {
+        eprintln!("python peers: {e}");
+    }
+    let names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
+    rows.extend(
+        read_rows(&dir.join("peers_python.csv"))
+            .into_iter()
+            .filter(|r| names.contains(&r.case.as_str())),
+    );
+
+    let mut csv = String::from(CSV_HEADER);
+    csv.push('\n');
+    for r in &rows {
+        csv.push_str(&r.csv());
+        csv.push('\n');
+    }
+    std::fs::write(dir.join("work_precision.csv"), csv).unwrap();
+
+    for case in &cases {
+        let mine: Vec<&Row> = rows.iter().filter(|r| r.case == case.name).collect();
+        plot::work_precision(
+            &dir.join("work_precision")
+                .join(format!("{}.svg", case.name)),
+            &case.name,
+            &mine,
+        );
+    }
+
+    let targets = targets();
+    let summary = summary(&cases, &truths, &rows, &targets, &python, &o);
+    std::fs::write(dir.join("work_precision.md"), summary).unwrap();
+    eprintln!("wrote reports/work_precision.md, .csv and work_precision/*.svg");
+}
+
+/// The issue's targets, measured on the paper-longitudinal scene (1 s, 2000 periods) in one
+/// communication step, against the exact solution.
+struct Targets {
+    /// (tolerance, F_mean relative error, seconds), best of 5, at k_t = 1e8.
+    sweep: Vec<(f64, f64, f64)>,
+    /// (k_t, tolerance, seconds, error), best of 5.
+    stiffness: Vec<(f64, f64, f64, f64)>,
+}
+
+fn targets() -> Targets {
+    let scene = Scene::load(Path::new("scenes/paper-longitudinal.toml")).unwrap();
+    let case = |k_t: f64| {
+        let mut params = scene.start;
+        params.k_t = k_t;
+        Case {
+            name: format!("paper-longitudinal k_t={k_t:e}"),
+            scene: scene.clone(),
+            params,
+            fmu_start: vec![],
+            t_end: 1.0,
+            period: 1.0 / params.f,
+        }
+    };
+    let exact = |c: &Case| c.exact().unwrap().f_mean_after_periods(2000);
+    let c8 = case(1e8);
+    let e8 = exact(&c8);
+    let mut sweep = vec![];
+    for tol in [1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7] {
+        let (m, t) = best_of(5, || {
+            let (m, t, _) = run_vibrofric_one_step(&c8, tol);
+            (m, t)
+        });
+        sweep.push((tol, ((m - e8) / e8).abs(), t));
+    }
+    let mut stiffness = vec![];
+    for k_t in [1e8, 1e10, 1e12] {
+        let c = case(k_t);
+        let e = exact(&c);
+        for tol in [1e-4, 1e-6] {
+            let (m, t) = best_of(5, || {
+                let (m, t, _) = run_vibrofric_one_step(&c, tol);
+                (m, t)
+            });
+            stiffness.push((k_t, tol, t, ((m - e) / e).abs()));
+        }
+    }
+    Targets { sweep, stiffness }
+}
+
+/// Cheapest run of `solver` on `case` whose error (by `err`) is at most `level`.
+fn time_to<'a>(
+    rows: &'a [Row],
+    case: &str,
+    solver: &str,
+    level: f64,
+    err: impl Fn(&Row) -> f64,
+) -> Option<&'a Row> {
+    rows.iter()
+        .filter(|r| r.case == case && r.solver == solver && r.ok() && err(r) <= level)
+        .min_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s))
+}
+
+fn fmt_time(s: f64) -> String {
+    if s < 1e-3 {
+        format!("{:.0} µs", s * 1e6)
+    } else if s < 1.0 {
+        format!("{:.1} ms", s * 1e3)
+    } else {
+        format!("{s:.2} s")
+    }
+}
+
+fn summary(
+    cases: &[Case],
+    truths: &[Truth],
+    rows: &[Row],
+    targets: &Targets,
+    python: &Result<(), String>,
+    o: &Options,
+) -> String {
+    let mut m = String::new();
+    let commit = std::process::Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .output()
+        .ok()
+        .and_then(|out| String::from_utf8(out.stdout).ok())
+        .map(|s| s.trim().to_string())
+        .unwrap_or_default();
+    writeln!(
+        m,
+        "# Work–precision report\n\nGenerated by `cargo run --release --example report{}` at commit `{commit}` \
+         on {} cores ({}). Times are single-thread wall times of the whole run, best of 3 for \
+         vibrofric, one run for the peers. Every measurement: `reports/work_precision.csv`; \
+         plots: `reports/work_precision/<case>.svg`.\n",
+        if o.quick { " -- --quick" } else { "" },
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+        std::env::consts::ARCH,
+    )
+    .unwrap();
+    writeln!(
+        m,
+        "Task, the same for every solver: from rest to `t_end`, `F_Fx` every {SAMPLE_DT:e} s \
+         and `F_mean` over the last period. Errors: `|F_mean − truth|/|truth|` and \
+         `max |F_Fx − truth| / F_C` over the samples. `vibrofric` steps the simulator to every \
+         sample time (a communication step of {SAMPLE_DT:e} s); `vibrofric-1step` reaches \
+         `t_end` in one communication step and gives `F_mean` only.\n"
+    )
+    .unwrap();
+    if let Err(e) = python {
+        writeln!(m, "Python peers (scipy, FMU via fmpy): {e}.\n").unwrap();
+    }
+
+    // Equal-error ratios.
+    let solvers: Vec<String> = {
+        let mut s: Vec<String> = rows.iter().map(|r| r.solver.clone()).collect();
+        s.sort();
+        s.dedup();
+        s
+    };
+    let peers: Vec<&String> = solvers
+        .iter()
+        .filter(|s| !s.starts_with("vibrofric") && !s.starts_with("fmu"))
+        .collect();
+    writeln!(
+        m,
+        "## Run time at equal error\n\nFor each error level, the cheapest run that reaches it: \
+         vibrofric's time, the fastest peer's time, and their ratio (peer / vibrofric). `—`: no run \
+         reached the level within the budget of {} s per run.\n",
+        o.budget_s
+    )
+    .unwrap();
+    writeln!(
+        m,
+        "| case | measure | level | vibrofric | fastest peer | peer time | ratio |\n|---|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    type Measure = (&'static str, fn(&Row) -> f64, [f64; 3]);
+    let measures: [Measure; 2] = [
+        ("F_mean", |r| r.f_mean_rel_err, [1e-4, 1e-6, 1e-8]),
+        ("F_Fx", |r| r.max_ffx_err, [1e-3, 1e-5, 1e-7]),
+    ];
+    let mut ratios: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    for case in cases {
+        for (name, err, levels) in &measures {
+            for &level in levels {
+                let mine = time_to(rows, &case.name, "vibrofric", level, err);
+                let best_peer = peers
+                    .iter()
+                    .filter_map(|p| time_to(rows, &case.name, p, level, err))
+                    .min_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s));
+                let ratio = match (mine, best_peer) {
+                    (Some(a), Some(b)) => {
+                        let r = b.cpu_s / a.cpu_s;
+                        ratios
+                            .entry(format!("{name} ≤ {level:.0e}"))
+                            .or_default()
+                            .push(r);
+                        format!("{r:.0}×")
+                    }
+                    (Some(_), None) => "peers did not reach it".into(),
+                    _ => "—".into(),
+                };
+                writeln!(
+                    m,
+                    "| {} | {name} | {level:.0e} | {} | {} | {} | {ratio} |",
+                    case.name,
+                    mine.map_or("—".into(), |r| format!(
+                        "{} (tol {:.0e})",
+                        fmt_time(r.cpu_s),
+                        r.tol
+                    )),
+                    best_peer.map_or("—".into(), |r| format!(
+                        "{} (tol {:.0e})",
+                        r.solver, r.tol
+                    )),
+                    best_peer.map_or("—".into(), |r| fmt_time(r.cpu_s)),
+                )
+                .unwrap();
+            }
+        }
+    }
+    writeln!(
+        m,
+        "\nSmallest ratio per level over the cases (where both reached it):\n"
+    )
+    .unwrap();
+    writeln!(
+        m,
+        "| level | min ratio | max ratio | cases |\n|---|---|---|---|"
+    )
+    .unwrap();
+    for (level, rs) in &ratios {
+        let min = rs.iter().cloned().fold(f64::INFINITY, f64::min);
+        let max = rs.iter().cloned().fold(0.0, f64::max);
+        writeln!(m, "| {level} | {min:.0}× | {max:.0}× | {} |", rs.len()).unwrap();
+    }
+
+    // The FMU through fmpy.
+    let fmu: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.solver.starts_with("fmu") && r.ok())
+        .collect();
+    if !fmu.is_empty() {
+        writeln!(
+            m,
+            "\n## The FMU through fmpy\n\nThe same integrator behind the FMI interface, driven by \
+             `fmpy.simulate_fmu`; the cost of the interface and of the importer at two \
+             communication steps, at tolerance 1e-6.\n\n| case | comm. step | time | F_mean error | \
+             F_Fx error | vibrofric in-process (1e-4 s steps) |\n|---|---|---|---|---|---|"
+        )
+        .unwrap();
+        for case in cases {
+            let own = rows.iter().find(|r| {
+                r.case == case.name && r.solver == "vibrofric" && (r.tol - 1e-6).abs() < 1e-12
+            });
+            for r in fmu
+                .iter()
+                .filter(|r| r.case == case.name && (r.tol - 1e-6).abs() < 1e-12)
+            {
+                writeln!(
+                    m,
+                    "| {} | {:e} | {} | {:.1e} | {:.1e} | {} |",
+                    case.name,
+                    r.comm_step.unwrap_or(f64::NAN),
+                    fmt_time(r.cpu_s),
+                    r.f_mean_rel_err,
+                    r.max_ffx_err,
+                    own.map_or("—".into(), |o| fmt_time(o.cpu_s))
+                )
+                .unwrap();
+            }
+        }
+    }
+
+    // Truths.
+    writeln!(
+        m,
+        "\n## Truths and their own errors\n\n| case | t_end | truth F_mean [N] | own error (F_mean, F_Fx/F_C) | method |\n|---|---|---|---|---|"
+    )
+    .unwrap();
+    for (c, t) in cases.iter().zip(truths) {
+        writeln!(
+            m,
+            "| {} | {} s | {:.12} | {:.0e}, {:.0e} | {} |",
+            c.name, c.t_end, t.f_mean, t.f_mean_err, t.ffx_err, t.method
+        )
+        .unwrap();
+    }
+    let cross = std::fs::read_to_string("reports/crosscheck_python.csv").unwrap_or_default();
+    if !cross.is_empty() {
+        writeln!(
+            m,
+            "\nIndependent cross-check: the equations written again in Python (from SPEC §2) and \
+             integrated by scipy at its tightest converged tolerance \
+             (`reports/crosscheck_python.csv`):\n\n```\n{}```",
+            cross
+        )
+        .unwrap();
+    }
+    // The tightest run of each Rust peer, as a second cross-check.
+    writeln!(
+        m,
+        "\nTightest run of each Rust peer against the truth:\n\n| case | peer | tol | F_mean error | F_Fx error |\n|---|---|---|---|---|"
+    )
+    .unwrap();
+    for c in cases {
+        for p in &peers {
+            if let Some(r) = rows
+                .iter()
+                .filter(|r| r.case == c.name && &&r.solver == p && r.ok())
+                .min_by(|a, b| a.tol.total_cmp(&b.tol))
+            {
+                if r.solver.starts_with("scipy") {
+                    continue;
+                }
+                writeln!(
+                    m,
+                    "| {} | {} | {:.0e} | {:.1e} | {:.1e} |",
+                    c.name, r.solver, r.tol, r.f_mean_rel_err, r.max_ffx_err
+                )
+                .unwrap();
+            }
+        }
+    }
+
+    // Targets.
+    writeln!(
+        m,
+        "\n## Targets\n\npaper-longitudinal, 1 s (2000 periods), one communication step, against \
+         the exact solution, best of 5:\n\n| tolerance | F_mean error | time |\n|---|---|---|"
+    )
+    .unwrap();
+    for (tol, e, t) in &targets.sweep {
+        writeln!(m, "| {tol:.0e} | {e:.1e} | {} |", fmt_time(*t)).unwrap();
+    }
+    let best = |level: f64| {
+        targets
+            .sweep
+            .iter()
+            .filter(|(_, e, _)| *e <= level)
+            .map(|(_, _, t)| *t)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (t6, t8) = (best(1e-6), best(1e-8));
+    writeln!(
+        m,
+        "\n- error ≤ 1e-6 in ≤ 10 ms: **{}** ({}).\n- error ≤ 1e-8 in ≤ 20 ms: **{}** ({}).",
+        if t6 <= 0.010 { "met" } else { "not met" },
+        fmt_time(t6),
+        if t8 <= 0.020 { "met" } else { "not met" },
+        fmt_time(t8),
+    )
+    .unwrap();
+    writeln!(
+        m,
+        "\nStiffness (same case and task):\n\n| k_t | tolerance | time | F_mean error | time / time at 1e8 |\n|---|---|---|---|---|"
+    )
+    .unwrap();
+    for &(k_t, tol, t, e) in &targets.stiffness {
+        let base = targets
+            .stiffness
+            .iter()
+            .find(|s| s.0 == 1e8 && s.1 == tol)
+            .map_or(f64::NAN, |s| s.2);
+        writeln!(
+            m,
+            "| {k_t:.0e} | {tol:.0e} | {} | {e:.1e} | {:.2} |",
+            fmt_time(t),
+            t / base
+        )
+        .unwrap();
+    }
+    m
+}
