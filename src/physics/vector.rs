@@ -132,9 +132,12 @@ impl Vector for Planar {
     fn dot(self, o: Self) -> f64 {
         self.x * o.x + self.y * o.y
     }
+    /// `sqrt(x² + y²)` directly: `hypot`'s guard against overflow is a library call that cost
+    /// 7 % of a planar run, and the squares of velocities and deformations (|v| ≥ 1e-150,
+    /// ≤ 1e150) neither overflow nor underflow; below that the norm rounds to 0 harmlessly.
     #[inline(always)]
     fn norm(self) -> f64 {
-        self.x.hypot(self.y)
+        (self.x * self.x + self.y * self.y).sqrt()
     }
     #[inline(always)]
     fn read(slice: &[f64]) -> Self {

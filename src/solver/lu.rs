@@ -90,6 +90,105 @@ impl DenseLu {
     }
 }
 
+/// Entries a [`FixedLu`] can factor: real or complex numbers.
+pub trait LuScalar:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+{
+    /// A magnitude for choosing pivots (|re| + |im| for complex numbers).
+    fn mag(self) -> f64;
+}
+
+impl LuScalar for f64 {
+    #[inline(always)]
+    fn mag(self) -> f64 {
+        self.abs()
+    }
+}
+
+impl LuScalar for nalgebra::Complex<f64> {
+    #[inline(always)]
+    fn mag(self) -> f64 {
+        self.re.abs() + self.im.abs()
+    }
+}
+
+/// LU factorisation with partial pivoting of an `N×N` matrix whose order is known at compile
+/// time (the split systems of the simplified Newton iteration and the error estimate).
+#[derive(Clone, Copy, Debug)]
+pub struct FixedLu<T: LuScalar, const N: usize> {
+    a: [[T; N]; N],
+    perm: [usize; N],
+    singular: bool,
+}
+
+impl<T: LuScalar, const N: usize> FixedLu<T, N> {
+    /// Factors `a` (row-major): `P·A = L·U`.
+    #[inline(always)]
+    pub fn new(mut a: [[T; N]; N]) -> Self {
+        let mut perm = [0; N];
+        for k in 0..N {
+            let mut piv = k;
+            let mut best = a[k][k].mag();
+            for (i, row) in a.iter().enumerate().skip(k + 1) {
+                let m = row[k].mag();
+                if m > best {
+                    best = m;
+                    piv = i;
+                }
+            }
+            perm[k] = piv;
+            a.swap(k, piv);
+            if best == 0.0 || !best.is_finite() {
+                return FixedLu {
+                    a,
+                    perm,
+                    singular: true,
+                };
+            }
+            let pivot_row = a[k];
+            for row in a.iter_mut().skip(k + 1) {
+                let l = row[k] / pivot_row[k];
+                row[k] = l;
+                for j in k + 1..N {
+                    row[j] = row[j] - l * pivot_row[j];
+                }
+            }
+        }
+        FixedLu {
+            a,
+            perm,
+            singular: false,
+        }
+    }
+
+    /// Solves `A·x = b` in place; false when `A` is singular or the result is not finite.
+    #[inline(always)]
+    pub fn solve(&self, b: &mut [T; N]) -> bool {
+        if self.singular {
+            return false;
+        }
+        for k in 0..N {
+            b.swap(k, self.perm[k]);
+        }
+        for i in 0..N {
+            for j in 0..i {
+                b[i] = b[i] - self.a[i][j] * b[j];
+            }
+        }
+        for i in (0..N).rev() {
+            for j in i + 1..N {
+                b[i] = b[i] - self.a[i][j] * b[j];
+            }
+            b[i] = b[i] / self.a[i][i];
+        }
+        b.iter().all(|v| v.mag().is_finite())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -112,6 +211,24 @@ mod tests {
         for i in 0..3 {
             assert!((b[i] - x[i]).abs() < 1e-14);
         }
+    }
+
+    #[test]
+    fn fixed_lu_solves_real_and_complex_systems() {
+        use nalgebra::Complex;
+        let a = [[0.0, 2.0, 1.0], [1.0, 1.0, 0.0], [3.0, 0.0, 1.0]];
+        let x = [1.0, -2.0, 0.5];
+        let mut b: [f64; 3] = std::array::from_fn(|i| (0..3).map(|j| a[i][j] * x[j]).sum());
+        assert!(FixedLu::new(a).solve(&mut b));
+        assert!((0..3).all(|i| (b[i] - x[i]).abs() < 1e-14));
+
+        let c = |re, im| Complex::new(re, im);
+        let a = [[c(0.0, 1.0), c(2.0, 0.0)], [c(1.0, -1.0), c(0.5, 3.0)]];
+        let x = [c(1.0, 2.0), c(-0.5, 0.25)];
+        let mut b: [Complex<f64>; 2] = std::array::from_fn(|i| a[i][0] * x[0] + a[i][1] * x[1]);
+        assert!(FixedLu::new(a).solve(&mut b));
+        assert!((0..2).all(|i| (b[i] - x[i]).norm() < 1e-14));
+        assert!(!FixedLu::new([[1.0, 2.0], [2.0, 4.0]]).solve(&mut [1.0, 1.0]));
     }
 
     #[test]

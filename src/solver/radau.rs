@@ -15,9 +15,9 @@
 //!   friction force) are integrated with the collocation's order.
 //! - It projects each accepted state onto the system's invariant set.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{Complex, SMatrix, SVector};
 
-use super::lu::DenseLu;
+use super::lu::{DenseLu, FixedLu};
 
 /// Most switching functions a system may have.
 pub const MAX_SWITCH: usize = 2;
@@ -155,18 +155,56 @@ const U1: f64 = 3.637_834_252_744_496;
 /// 1e-6 (measured: 127 004 → 80 006 steps per 2000 periods, error 1.1e-8 → 5.4e-9).
 const QUAD_TOL_FACTOR: f64 = 10.0;
 
+/// Complex eigenvalue `ALPH ± i·BETA` of the inverse Butcher matrix.
+const ALPH: f64 = 2.681_082_873_627_752;
+const BETA: f64 = 3.050_430_199_247_411;
+/// Eigenvectors `T` of the inverse Butcher matrix (`A⁻¹·T = T·diag(U1, [[ALPH, −BETA],
+/// [BETA, ALPH]])`, RADAU5's normalisation) and `TI = T⁻¹`: they split the Newton system
+/// into one real and one complex `N×N` system.
+const T: [[f64; 3]; 3] = [
+    [
+        9.123_239_487_089_294e-2,
+        -0.141_255_295_020_954_2,
+        -3.002_919_410_514_742_4e-2,
+    ],
+    [
+        0.241_717_932_707_107,
+        0.204_129_352_293_799_9,
+        0.382_942_112_757_261_9,
+    ],
+    [0.966_048_182_615_093, 1.0, 0.0],
+];
+const TI: [[f64; 3]; 3] = [
+    [
+        4.325_579_890_063_155,
+        0.339_199_251_815_809_9,
+        0.541_770_539_935_874_9,
+    ],
+    [
+        -4.178_718_591_551_905,
+        -0.327_682_820_761_062_4,
+        0.476_623_554_500_550_5,
+    ],
+    [
+        -0.502_872_634_945_786_9,
+        2.571_926_949_855_605,
+        -0.596_039_204_828_224_9,
+    ],
+];
+
 const NIT: u32 = 7;
+/// Steps taken with stage Jacobians after the simplified iteration failed to converge.
+const FULL_STEPS_AFTER_FAILURE: u32 = 4;
 const SAFE: f64 = 0.9;
 const FAC_MAX_GROW: f64 = 8.0;
 const FAC_MAX_SHRINK: f64 = 0.2;
 
-/// The Newton and error-estimate matrices (on the stack, sized for the largest state), refilled
-/// entry by entry at every attempt: scratch space, not part of the integrator's state.
+/// The Newton matrix of the stage-Jacobian iteration (on the stack, sized for the largest
+/// state), refilled entry by entry at every attempt: scratch space, not integrator state.
 #[derive(Clone, Debug)]
 pub struct Workspace {
     n: usize,
     m: DenseLu,
-    e1: DenseLu,
 }
 
 impl Workspace {
@@ -174,7 +212,6 @@ impl Workspace {
         Workspace {
             n,
             m: DenseLu::zeros(3 * n),
-            e1: DenseLu::zeros(n),
         }
     }
 }
@@ -207,6 +244,8 @@ pub struct Radau5<const N: usize> {
     /// Sign of each switching function on the current side of the last event (0: unknown).
     switch_sign: [f64; MAX_SWITCH],
     n_accept: u64,
+    /// Accepted steps still to take with stage Jacobians after the simplified Newton failed.
+    full_left: u32,
     pub stats: SolverStats,
 }
 
@@ -232,6 +271,7 @@ impl<const N: usize> Radau5<N> {
             after_event: false,
             switch_sign: [0.0; MAX_SWITCH],
             n_accept: 0,
+            full_left: 0,
             stats: SolverStats::default(),
         }
     }
@@ -314,7 +354,9 @@ impl<const N: usize> Radau5<N> {
         mut on_step: impl FnMut(&Step<N>),
     ) -> Result<(), SolverError> {
         assert_eq!(work.n, N, "workspace for another dimension");
-        let Workspace { m, e1, .. } = work;
+        let m = &mut work.m;
+        // Jacobian at the current step start, for the simplified Newton iteration.
+        let mut jac_start: Option<SMatrix<f64, N, N>> = None;
         let nominal = sys.scale();
         let q_scale = sys.quadrature_scale();
         let n_switch = sys.n_switch().min(MAX_SWITCH);
@@ -371,24 +413,64 @@ impl<const N: usize> Radau5<N> {
                 }
             }
 
-            // Newton matrix I − h·(A ⊗ J_j) with the Jacobian J_j at each stage.
+            // Newton iteration matrix. Two kinds:
+            // - simplified (RADAU5's): one Jacobian J at the step start, and the transformation
+            //   T splits I − h·(A ⊗ J) into a real and a complex N×N system;
+            // - stage Jacobians: I − h·(A ⊗ J_j) with J_j at each stage, a 3N×3N system. It
+            //   converges where J changes by orders of magnitude within the step (across a
+            //   sign change of v_r), where the simplified iteration fails.
+            // A 1-D state always takes stage Jacobians (its 3×3 system is as cheap); larger
+            // states try the simplified iteration and fall back for a few steps when it fails.
+            let simplified = N > 1 && self.full_left == 0;
             let mut jac = [SMatrix::<f64, N, N>::zeros(); 3];
             let mut fz = [SVector::<f64, N>::zeros(); 3];
-            for i in 0..3 {
-                let (ti, yi) = (self.t + C[i] * h, self.y + z[i]);
-                (fz[i], jac[i]) = self.rhs_jacobian(sys, ti, &yi, &nominal);
-            }
-            for i in 0..3 {
-                for j in 0..3 {
-                    for r in 0..N {
-                        for c in 0..N {
-                            let id = if i == j && r == c { 1.0 } else { 0.0 };
-                            m.set(i * N + r, j * N + c, id - h * A[i][j] * jac[j][(r, c)]);
+            let mut split = None;
+            if simplified {
+                let j0 = match jac_start {
+                    Some(j) => j,
+                    None => {
+                        let (t, y) = (self.t, self.y);
+                        let j = self.rhs_jacobian(sys, t, &y, &nominal).1;
+                        jac_start = Some(j);
+                        j
+                    }
+                };
+                jac = [j0; 3];
+                for i in 0..3 {
+                    fz[i] = sys.rhs(self.t + C[i] * h, &(self.y + z[i]));
+                }
+                self.stats.rhs_evals += 3;
+                let e_real = FixedLu::new(std::array::from_fn(|r| {
+                    std::array::from_fn(|c| (if r == c { U1 / h } else { 0.0 }) - j0[(r, c)])
+                }));
+                let e_complex = FixedLu::new(std::array::from_fn(|r| {
+                    std::array::from_fn(|c| {
+                        let d = if r == c {
+                            Complex::new(ALPH / h, BETA / h)
+                        } else {
+                            Complex::ZERO
+                        };
+                        d - Complex::new(j0[(r, c)], 0.0)
+                    })
+                }));
+                split = Some((e_real, e_complex));
+            } else {
+                for i in 0..3 {
+                    let (ti, yi) = (self.t + C[i] * h, self.y + z[i]);
+                    (fz[i], jac[i]) = self.rhs_jacobian(sys, ti, &yi, &nominal);
+                }
+                for i in 0..3 {
+                    for j in 0..3 {
+                        for r in 0..N {
+                            for c in 0..N {
+                                let id = if i == j && r == c { 1.0 } else { 0.0 };
+                                m.set(i * N + r, j * N + c, id - h * A[i][j] * jac[j][(r, c)]);
+                            }
                         }
                     }
                 }
+                m.factor();
             }
-            m.factor();
 
             // Newton iteration.
             self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
@@ -409,17 +491,43 @@ impl<const N: usize> Radau5<N> {
                 if !fz.iter().all(|f| f.iter().all(|v| v.is_finite())) {
                     break false;
                 }
-                // Residual −(Z_i − h·Σ_j a_ij·F_j), solved for the update.
-                let mut rhs = [0.0f64; 3 * MAX_DIM];
-                for i in 0..3 {
-                    let r = (fz[0] * A[i][0] + fz[1] * A[i][1] + fz[2] * A[i][2]) * h - z[i];
-                    rhs[i * N..(i + 1) * N].copy_from_slice(r.as_slice());
-                }
-                if !m.solve(&mut rhs[..3 * N]) {
-                    break false;
-                }
-                let dz: [SVector<f64, N>; 3] =
-                    std::array::from_fn(|i| SVector::from_column_slice(&rhs[i * N..(i + 1) * N]));
+                let dz: [SVector<f64, N>; 3] = if let Some((e_real, e_complex)) = &split {
+                    // In W = (T⁻¹ ⊗ I)·Z the system reads (Λ/h ⊗ I − I ⊗ J)·ΔW =
+                    // (T⁻¹ ⊗ I)·F − (Λ/h ⊗ I)·W, Λ = diag(U1, [[ALPH, −BETA], [BETA, ALPH]]).
+                    let tf = |m: &[[f64; 3]; 3], v: &[SVector<f64, N>; 3], k: usize| {
+                        v[0] * m[k][0] + v[1] * m[k][1] + v[2] * m[k][2]
+                    };
+                    let (a, w) = (
+                        [tf(&TI, &fz, 0), tf(&TI, &fz, 1), tf(&TI, &fz, 2)],
+                        [tf(&TI, &z, 0), tf(&TI, &z, 1), tf(&TI, &z, 2)],
+                    );
+                    let r1 = a[0] - w[0] * (U1 / h);
+                    let r2 = a[1] - w[1] * (ALPH / h) + w[2] * (BETA / h);
+                    let r3 = a[2] - w[1] * (BETA / h) - w[2] * (ALPH / h);
+                    let mut dw0: [f64; N] = r1.into();
+                    let mut dw12: [Complex<f64>; N] =
+                        std::array::from_fn(|i| Complex::new(r2[i], r3[i]));
+                    if !(e_real.solve(&mut dw0) && e_complex.solve(&mut dw12)) {
+                        break false;
+                    }
+                    let dw = [
+                        SVector::from(dw0),
+                        SVector::from_fn(|i, _| dw12[i].re),
+                        SVector::from_fn(|i, _| dw12[i].im),
+                    ];
+                    [tf(&T, &dw, 0), tf(&T, &dw, 1), tf(&T, &dw, 2)]
+                } else {
+                    // Residual −(Z_i − h·Σ_j a_ij·F_j), solved for the update.
+                    let mut rhs = [0.0f64; 3 * MAX_DIM];
+                    for i in 0..3 {
+                        let r = (fz[0] * A[i][0] + fz[1] * A[i][1] + fz[2] * A[i][2]) * h - z[i];
+                        rhs[i * N..(i + 1) * N].copy_from_slice(r.as_slice());
+                    }
+                    if !m.solve(&mut rhs[..3 * N]) {
+                        break false;
+                    }
+                    std::array::from_fn(|i| SVector::from_column_slice(&rhs[i * N..(i + 1) * N]))
+                };
                 newt += 1;
                 let dyno = ((0..3)
                     .map(|k| dz[k].component_div(&scal).norm_squared())
@@ -456,6 +564,12 @@ impl<const N: usize> Radau5<N> {
                     break true;
                 }
             };
+            if !converged && simplified {
+                // Retake the same step with stage Jacobians.
+                self.full_left = FULL_STEPS_AFTER_FAILURE;
+                self.stats.rejected += 1;
+                continue;
+            }
             if !converged {
                 self.h = h * shrink;
                 self.stats.rejected += 1;
@@ -507,22 +621,24 @@ impl<const N: usize> Radau5<N> {
 
             // Error estimate (Hairer & Wanner IV.8). Its filter `(U1/h − J)⁻¹` needs only an
             // approximate Jacobian (RADAU5 keeps one for many steps): the first stage's.
-            for r in 0..N {
-                for c in 0..N {
-                    let d = if r == c { U1 / h } else { 0.0 };
-                    e1.set(r, c, d - jac[0][(r, c)]);
-                }
-            }
-            e1.factor();
+            let e1 = match split {
+                Some((e_real, _)) => e_real,
+                None => FixedLu::new(std::array::from_fn(|r| {
+                    std::array::from_fn(|c| (if r == c { U1 / h } else { 0.0 }) - jac[0][(r, c)])
+                })),
+            };
+            let solve = |v: SVector<f64, N>| {
+                let mut b: [f64; N] = v.into();
+                e1.solve(&mut b);
+                SVector::from(b)
+            };
             let f2 = (z[0] * DD1 + z[1] * DD2 + z[2] * DD3) / h;
-            let mut est = f0 + f2;
-            e1.solve(est.as_mut_slice());
+            let est = solve(f0 + f2);
             let mut err = rms(&est, &scal).max(1e-10);
             if err >= 1.0 && (self.first || reject) {
                 let fy = sys.rhs(self.t, &(self.y + est));
                 self.stats.rhs_evals += 1;
-                let mut est2 = fy + f2;
-                e1.solve(est2.as_mut_slice());
+                let est2 = solve(fy + f2);
                 err = rms(&est2, &scal).max(1e-10);
             }
             // The quadrature: collocation integral and its embedded error estimate.
@@ -591,6 +707,10 @@ impl<const N: usize> Radau5<N> {
             self.first = false;
             reject = false;
             self.h = h_new;
+            jac_start = None;
+            if !simplified {
+                self.full_left = self.full_left.saturating_sub(1);
+            }
             if let Some(k) = event_here {
                 event_target = None;
                 self.switch_sign[k] = -self.switch_sign[k];
@@ -678,6 +798,7 @@ impl<const N: usize> Radau5<N> {
             self.switch_sign[0],
             self.switch_sign[1],
             self.n_accept as f64,
+            self.full_left as f64,
             self.stats.steps as f64,
             self.stats.rejected as f64,
             self.stats.rhs_evals as f64,
@@ -690,7 +811,7 @@ impl<const N: usize> Radau5<N> {
     }
 
     /// Number of numbers [`Radau5::save`] writes.
-    pub const SAVED_LEN: usize = 2 + N + 17 + 3 * N;
+    pub const SAVED_LEN: usize = 2 + N + 18 + 3 * N;
 
     /// Restores a state written by [`Radau5::save`].
     pub fn load(data: &[f64]) -> Option<Self> {
@@ -719,6 +840,7 @@ impl<const N: usize> Radau5<N> {
         r.after_event = next() != 0.0;
         r.switch_sign = [next(), next()];
         r.n_accept = next() as u64;
+        r.full_left = next() as u32;
         r.stats.steps = next() as u64;
         r.stats.rejected = next() as u64;
         r.stats.rhs_evals = next() as u64;
@@ -874,6 +996,23 @@ mod tests {
         assert!((quad - exact).abs() < 1e-14);
         assert_eq!(r.stats.events, 1);
         assert!(ends.iter().any(|&e| (e - 0.3).abs() < 1e-15), "{ends:?}");
+    }
+
+    /// `T` diagonalises `A⁻¹` into `U1` and the block `[[ALPH, −BETA], [BETA, ALPH]]`, and
+    /// `TI` is its inverse, to rounding.
+    #[test]
+    fn transformation_constants_diagonalise_the_inverse_butcher_matrix() {
+        let a = nalgebra::Matrix3::from_fn(|i, j| A[i][j]);
+        let ainv = a.try_inverse().unwrap();
+        let t = nalgebra::Matrix3::from_fn(|i, j| T[i][j]);
+        let ti = nalgebra::Matrix3::from_fn(|i, j| TI[i][j]);
+        let lambda = nalgebra::Matrix3::new(U1, 0.0, 0.0, 0.0, ALPH, -BETA, 0.0, BETA, ALPH);
+        assert!((ti * t - nalgebra::Matrix3::identity()).amax() < 1e-14);
+        assert!(
+            (ainv * t - t * lambda).amax() < 1e-13,
+            "{}",
+            ainv * t - t * lambda
+        );
     }
 
     #[test]
