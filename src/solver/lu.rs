@@ -8,6 +8,8 @@ pub const MAX: usize = 18;
 #[derive(Clone, Copy, Debug)]
 pub struct DenseLu {
     a: [[f64; MAX]; MAX],
+    /// Reciprocals of U's diagonal: the solve multiplies instead of dividing.
+    inv_diag: [f64; MAX],
     perm: [usize; MAX],
     n: usize,
     singular: bool,
@@ -18,6 +20,7 @@ impl DenseLu {
         assert!(n <= MAX);
         DenseLu {
             a: [[0.0; MAX]; MAX],
+            inv_diag: [0.0; MAX],
             perm: [0; MAX],
             n,
             singular: false,
@@ -31,9 +34,11 @@ impl DenseLu {
 
     /// Factors in place: `P·A = L·U`. Every entry of the leading `n×n` block must have been
     /// set since the last factorisation (the matrix is reused without clearing).
+    /// The order `n` (equal to the one given to [`DenseLu::zeros`]) is passed in, so that a
+    /// caller who knows it at compile time gets unrolled loops.
     #[inline(always)]
-    pub fn factor(&mut self) {
-        let n = self.n;
+    pub fn factor(&mut self, n: usize) {
+        debug_assert_eq!(n, self.n);
         self.singular = false;
         for k in 0..n {
             let mut piv = k;
@@ -47,13 +52,15 @@ impl DenseLu {
             }
             self.perm[k] = piv;
             if piv != k {
-                self.a.swap(k, piv);
+                let (top, rest) = self.a.split_at_mut(piv);
+                top[k][..n].swap_with_slice(&mut rest[0][..n]);
             }
             if best == 0.0 || !best.is_finite() {
                 self.singular = true;
                 return;
             }
             let inv = 1.0 / self.a[k][k];
+            self.inv_diag[k] = inv;
             let (top, rest) = self.a.split_at_mut(k + 1);
             let pivot_row = &top[k];
             for row in rest.iter_mut().take(n - k - 1) {
@@ -84,7 +91,7 @@ impl DenseLu {
         }
         for i in (0..n).rev() {
             let s: f64 = (i + 1..n).map(|j| self.a[i][j] * b[j]).sum();
-            b[i] = (b[i] - s) / self.a[i][i];
+            b[i] = (b[i] - s) * self.inv_diag[i];
         }
         b.iter().all(|v| v.is_finite())
     }
@@ -206,7 +213,7 @@ mod tests {
                 lu.set(i, j, a[i][j]);
             }
         }
-        lu.factor();
+        lu.factor(lu.n);
         assert!(lu.solve(&mut b));
         for i in 0..3 {
             assert!((b[i] - x[i]).abs() < 1e-14);
@@ -238,7 +245,7 @@ mod tests {
         lu.set(0, 1, 2.0);
         lu.set(1, 0, 2.0);
         lu.set(1, 1, 4.0);
-        lu.factor();
+        lu.factor(lu.n);
         assert!(!lu.solve(&mut [1.0, 1.0]));
     }
 }

@@ -232,7 +232,11 @@ pub struct Radau5<const N: usize> {
     h_old: f64,
     h_acc: f64,
     err_acc: f64,
+    /// Newton's contraction estimate `theta/(1 − theta)` from the last iteration that measured
+    /// it, relaxed towards 1 by `x ↦ x^0.8` at every attempt since (RADAU5): the relaxed value
+    /// is `faccon^(0.8^faccon_relax)`, evaluated only when a convergence test needs it.
     faccon: f64,
+    faccon_relax: u32,
     first: bool,
     /// Dense-output coefficients of the last accepted step (valid when `has_cont`).
     cont: [SVector<f64, N>; 3],
@@ -264,6 +268,7 @@ impl<const N: usize> Radau5<N> {
             h_acc: 0.0,
             err_acc: 1e-2,
             faccon: 1.0,
+            faccon_relax: 0,
             first: true,
             cont: [SVector::zeros(); 3],
             has_cont: false,
@@ -323,6 +328,29 @@ impl<const N: usize> Radau5<N> {
         }
         self.stats.rhs_evals += N as u64;
         (f, jac)
+    }
+
+    /// RADAU5's stopping test `faccon·dyno ≤ fnewt` with the relaxed `faccon`. The relaxed
+    /// value lies between `faccon` and 1, so the power is computed only when those two bounds
+    /// disagree about the outcome.
+    #[inline(always)]
+    fn newton_converged(&self, dyno: f64) -> bool {
+        if self.faccon_relax == 0 {
+            return self.faccon * dyno <= self.fnewt;
+        }
+        let (lo, hi) = if self.faccon < 1.0 {
+            (self.faccon, 1.0)
+        } else {
+            (1.0, self.faccon)
+        };
+        if hi * dyno <= self.fnewt {
+            return true;
+        }
+        if lo * dyno > self.fnewt {
+            return false;
+        }
+        let relaxed = self.faccon.powf(0.8f64.powi(self.faccon_relax as i32));
+        relaxed * dyno <= self.fnewt
     }
 
     /// Evaluates the dense output of a step ending in `y_new` at fraction `theta` of it.
@@ -469,11 +497,13 @@ impl<const N: usize> Radau5<N> {
                         }
                     }
                 }
-                m.factor();
+                m.factor(3 * N);
             }
 
             // Newton iteration.
-            self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
+            self.faccon = self.faccon.max(f64::EPSILON);
+            // 0.8^4000 underflows to 0: the relaxed value is then 1.
+            self.faccon_relax = (self.faccon_relax + 1).min(4000);
             let mut dyno_old = 0.0;
             let mut thq_old = 0.0;
             let mut newt = 0;
@@ -544,6 +574,7 @@ impl<const N: usize> Radau5<N> {
                     thq_old = thq;
                     if theta < 0.99 {
                         self.faccon = theta / (1.0 - theta);
+                        self.faccon_relax = 0;
                         let dyth =
                             self.faccon * dyno * theta.powi((NIT - 1 - newt) as i32) / self.fnewt;
                         if dyth >= 1.0 {
@@ -560,7 +591,7 @@ impl<const N: usize> Radau5<N> {
                 for k in 0..3 {
                     z[k] += dz[k];
                 }
-                if self.faccon * dyno <= self.fnewt {
+                if self.newton_converged(dyno) {
                     break true;
                 }
             };
@@ -791,6 +822,7 @@ impl<const N: usize> Radau5<N> {
             self.h_acc,
             self.err_acc,
             self.faccon,
+            self.faccon_relax as f64,
             self.first as u8 as f64,
             self.has_cont as u8 as f64,
             self.h_event,
@@ -811,7 +843,7 @@ impl<const N: usize> Radau5<N> {
     }
 
     /// Number of numbers [`Radau5::save`] writes.
-    pub const SAVED_LEN: usize = 2 + N + 18 + 3 * N;
+    pub const SAVED_LEN: usize = 2 + N + 19 + 3 * N;
 
     /// Restores a state written by [`Radau5::save`].
     pub fn load(data: &[f64]) -> Option<Self> {
@@ -834,6 +866,7 @@ impl<const N: usize> Radau5<N> {
         r.h_acc = next();
         r.err_acc = next();
         r.faccon = next();
+        r.faccon_relax = next() as u32;
         r.first = next() != 0.0;
         r.has_cont = next() != 0.0;
         r.h_event = next();
