@@ -7,6 +7,7 @@
 //! cargo run --release --example report -- --cases-only # reports/cases.json and the truths only
 //! cargo run --release --example report -- --skip-python  # reuse reports/peers_python.csv
 //! cargo run --release --example report -- --only paper-longitudinal
+//! cargo run --release --example report -- --out DIR   # write to DIR instead of reports/
 //! ```
 //!
 //! Writes to `reports/`:
@@ -52,11 +53,13 @@ struct Options {
     skip_python: bool,
     only: Option<String>,
     budget_s: f64,
+    out: PathBuf,
 }
 
 fn options() -> Options {
     let mut o = Options {
         budget_s: 20.0,
+        out: PathBuf::from("reports"),
         ..Default::default()
     };
     let mut args = std::env::args().skip(1);
@@ -66,6 +69,7 @@ fn options() -> Options {
             "--cases-only" => o.cases_only = true,
             "--skip-python" => o.skip_python = true,
             "--only" => o.only = args.next(),
+            "--out" => o.out = PathBuf::from(args.next().expect("--out <directory>")),
             "--budget" => {
                 o.budget_s = args
                     .next()
@@ -484,7 +488,7 @@ fn write_cases_json(cases: &[Case], truths: &[Truth], dir: &Path, tols: &[f64]) 
         use vibrofric::description::scene::{drive_name, lateral_name, law_name, motion_name};
         write!(
             j,
-            "    {{\"name\": \"{}\", \"fmu\": \"dist/{}.fmu\",\n     \"config\": {{\"law\": \"{}\", \"motion\": \"{}\", \"drive\": \"{}\", \"lateral\": \"{}\", \"harmonic\": {}, \"input_support\": {}}},\n     \"params\": {{{}}},\n     \"fmu_start\": {{{}}},\n     \"inputs\": {{{}}},\n     \"t_end\": {:e}, \"period\": {:e},\n     \"truth\": {{\"f_mean\": {:e}, \"f_c\": {:e}, \"samples\": \"reports/truth/{}.csv\", \"error\": {:e}, \"method\": \"{}\"}}}}",
+            "    {{\"name\": \"{}\", \"fmu\": \"dist/{}.fmu\",\n     \"config\": {{\"law\": \"{}\", \"motion\": \"{}\", \"drive\": \"{}\", \"lateral\": \"{}\", \"harmonic\": {}, \"input_support\": {}}},\n     \"params\": {{{}}},\n     \"fmu_start\": {{{}}},\n     \"inputs\": {{{}}},\n     \"t_end\": {:e}, \"period\": {:e},\n     \"truth\": {{\"f_mean\": {:e}, \"f_c\": {:e}, \"samples\": \"{}\", \"error\": {:e}, \"method\": \"{}\"}}}}",
             c.name,
             c.scene.model_identifier,
             law_name(cfg.law),
@@ -500,7 +504,7 @@ fn write_cases_json(cases: &[Case], truths: &[Truth], dir: &Path, tols: &[f64]) 
             c.period,
             t.f_mean,
             c.f_c(),
-            c.name,
+            dir.join("truth").join(format!("{}.csv", c.name)).display(),
             t.f_mean_err,
             t.method.replace('"', "'"),
         )
@@ -558,7 +562,7 @@ fn read_rows(path: &Path) -> Vec<Row> {
 
 fn main() {
     let o = options();
-    let dir = PathBuf::from("reports");
+    let dir = o.out.clone();
     std::fs::create_dir_all(dir.join("work_precision")).unwrap();
     let tols: Vec<f64> = if o.quick {
         vec![1e-4, 1e-8]
@@ -624,7 +628,10 @@ fn main() {
     let targets = targets();
     let summary = summary(&cases, &truths, &rows, &targets, &python, &o);
     std::fs::write(dir.join("work_precision.md"), summary).unwrap();
-    eprintln!("wrote reports/work_precision.md, .csv and work_precision/*.svg");
+    eprintln!(
+        "wrote {0}/work_precision.md, .csv and {0}/work_precision/*.svg",
+        dir.display()
+    );
 }
 
 /// The issue's targets, measured on the paper-longitudinal scene (1 s, 2000 periods) in one
@@ -937,7 +944,7 @@ fn summary(
         )
         .unwrap();
     }
-    let cross = std::fs::read_to_string("reports/crosscheck_python.csv").unwrap_or_default();
+    let cross = std::fs::read_to_string(o.out.join("crosscheck_python.csv")).unwrap_or_default();
     if !cross.is_empty() {
         writeln!(
             m,

@@ -9,7 +9,7 @@ use super::Row;
 
 /// Colours by solver: vibrofric in black, peers in distinct hues.
 fn colour(i: usize) -> RGBColor {
-    const PALETTE: [RGBColor; 10] = [
+    const PALETTE: [RGBColor; 14] = [
         RGBColor(0, 0, 0),
         RGBColor(120, 120, 120),
         RGBColor(31, 119, 180),
@@ -20,6 +20,10 @@ fn colour(i: usize) -> RGBColor {
         RGBColor(140, 86, 75),
         RGBColor(227, 119, 194),
         RGBColor(23, 190, 207),
+        RGBColor(188, 189, 34),
+        RGBColor(255, 187, 120),
+        RGBColor(152, 223, 138),
+        RGBColor(174, 199, 232),
     ];
     PALETTE[i % PALETTE.len()]
 }
@@ -62,6 +66,10 @@ pub fn work_precision(path: &Path, case: &str, rows: &[&Row]) {
         ("F_mean relative error", |r| r.f_mean_rel_err),
         ("max |F_Fx error| / F_C", |r| r.max_ffx_err),
     ];
+    // One colour per solver in both panels.
+    let mut names: Vec<String> = rows.iter().map(|r| label(r)).collect();
+    names.sort_by_key(|n| (!n.starts_with("vibrofric"), n.clone()));
+    names.dedup();
     for (panel, (what, err)) in panels.iter().zip(measures) {
         let s = series(rows, err);
         let pts = s.iter().flat_map(|(_, p)| p.iter());
@@ -94,8 +102,8 @@ pub fn work_precision(path: &Path, case: &str, rows: &[&Row]) {
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()
             .unwrap();
-        for (i, (name, p)) in s.iter().enumerate() {
-            let c = colour(i);
+        for (name, p) in &s {
+            let c = colour(names.iter().position(|n| n == name).unwrap_or(0));
             let p: Vec<(f64, f64)> = p.iter().map(|&(t, e)| (t, e.max(1e-16))).collect();
             chart
                 .draw_series(LineSeries::new(p.clone(), c.stroke_width(2)))
