@@ -219,16 +219,18 @@ pub struct Radau5<const N: usize> {
     /// the order of `tol`.
     rtol: f64,
     fnewt: f64,
+    ln_fnewt: f64,
     /// Proposed next step size (0: not yet chosen).
     h: f64,
     h_old: f64,
     h_acc: f64,
     err_acc: f64,
     /// Newton's contraction estimate `theta/(1 − theta)` from the last iteration that measured
-    /// it, relaxed towards 1 by `x ↦ x^0.8` at every attempt since (RADAU5): the relaxed value
-    /// is `faccon^(0.8^faccon_relax)`, evaluated only when a convergence test needs it.
-    faccon: f64,
-    faccon_relax: u32,
+    /// it, relaxed towards 1 by `x ↦ x^0.8` at every attempt since (RADAU5). Kept as
+    /// `ln(faccon)` and the accumulated exponent `0.8^k`, so that relaxing is one
+    /// multiplication and the stopping test one logarithm instead of a power.
+    ln_faccon: f64,
+    faccon_exp: f64,
     first: bool,
     /// Dense-output coefficients of the last accepted step (valid when `has_cont`).
     cont: [SVector<f64, N>; 3],
@@ -249,18 +251,20 @@ impl<const N: usize> Radau5<N> {
     pub fn new(t: f64, y: SVector<f64, N>, tol: f64) -> Self {
         assert!(N <= MAX_DIM, "state dimension {N} above {MAX_DIM}");
         let rtol = 0.1 * tol.powf(2.0 / 3.0);
+        let fnewt = (10.0 * f64::EPSILON / rtol).max(rtol.sqrt().min(0.03));
         Radau5 {
             t,
             y,
             tol,
             rtol,
-            fnewt: (10.0 * f64::EPSILON / rtol).max(rtol.sqrt().min(0.03)),
+            fnewt,
+            ln_fnewt: fnewt.ln(),
             h: 0.0,
             h_old: 0.0,
             h_acc: 0.0,
             err_acc: 1e-2,
-            faccon: 1.0,
-            faccon_relax: 0,
+            ln_faccon: 0.0,
+            faccon_exp: 1.0,
             first: true,
             cont: [SVector::zeros(); 3],
             has_cont: false,
@@ -322,27 +326,10 @@ impl<const N: usize> Radau5<N> {
         (f, jac)
     }
 
-    /// RADAU5's stopping test `faccon·dyno ≤ fnewt` with the relaxed `faccon`. The relaxed
-    /// value lies between `faccon` and 1, so the power is computed only when those two bounds
-    /// disagree about the outcome.
+    /// RADAU5's stopping test `faccon·dyno ≤ fnewt` with the relaxed `faccon`, in logarithms.
     #[inline(always)]
     fn newton_converged(&self, dyno: f64) -> bool {
-        if self.faccon_relax == 0 {
-            return self.faccon * dyno <= self.fnewt;
-        }
-        let (lo, hi) = if self.faccon < 1.0 {
-            (self.faccon, 1.0)
-        } else {
-            (1.0, self.faccon)
-        };
-        if hi * dyno <= self.fnewt {
-            return true;
-        }
-        if lo * dyno > self.fnewt {
-            return false;
-        }
-        let relaxed = self.faccon.powf(0.8f64.powi(self.faccon_relax as i32));
-        relaxed * dyno <= self.fnewt
+        self.faccon_exp * self.ln_faccon + dyno.ln() <= self.ln_fnewt
     }
 
     /// Evaluates the dense output of a step ending in `y_new` at fraction `theta` of it.
@@ -493,9 +480,7 @@ impl<const N: usize> Radau5<N> {
             }
 
             // Newton iteration.
-            self.faccon = self.faccon.max(f64::EPSILON);
-            // 0.8^4000 underflows to 0: the relaxed value is then 1.
-            self.faccon_relax = (self.faccon_relax + 1).min(4000);
+            self.faccon_exp *= 0.8;
             let mut dyno_old = 0.0;
             let mut thq_old = 0.0;
             let mut newt = 0;
@@ -565,10 +550,10 @@ impl<const N: usize> Radau5<N> {
                     };
                     thq_old = thq;
                     if theta < 0.99 {
-                        self.faccon = theta / (1.0 - theta);
-                        self.faccon_relax = 0;
-                        let dyth =
-                            self.faccon * dyno * theta.powi((NIT - 1 - newt) as i32) / self.fnewt;
+                        let faccon = (theta / (1.0 - theta)).max(f64::EPSILON);
+                        self.ln_faccon = faccon.ln();
+                        self.faccon_exp = 1.0;
+                        let dyth = faccon * dyno * theta.powi((NIT - 1 - newt) as i32) / self.fnewt;
                         if dyth >= 1.0 {
                             // Convergence too slow for this step: shrink it.
                             let qnewt = dyth.clamp(1e-4, 20.0);
@@ -817,8 +802,8 @@ impl<const N: usize> Radau5<N> {
             self.h_old,
             self.h_acc,
             self.err_acc,
-            self.faccon,
-            self.faccon_relax as f64,
+            self.ln_faccon,
+            self.faccon_exp,
             self.first as u8 as f64,
             self.has_cont as u8 as f64,
             self.h_event,
@@ -861,8 +846,8 @@ impl<const N: usize> Radau5<N> {
         r.h_old = next();
         r.h_acc = next();
         r.err_acc = next();
-        r.faccon = next();
-        r.faccon_relax = next() as u32;
+        r.ln_faccon = next();
+        r.faccon_exp = next();
         r.first = next() != 0.0;
         r.has_cont = next() != 0.0;
         r.h_event = next();
