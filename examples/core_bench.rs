@@ -7,18 +7,11 @@
 mod common;
 
 use std::time::Instant;
-use vibrofric::model::{build, Config, Drive, Lateral, Law, Motion};
+use vibrofric::model::{build, Law};
 use vibrofric::physics::Params;
 
 fn run(params: Params, tol: f64) -> (f64, f64, vibrofric::model::StepStats) {
-    let config = Config {
-        law: Law::Dahl,
-        motion: Motion::Longitudinal,
-        drive: Drive::Velocity,
-        lateral: Lateral::Guided,
-        harmonic: true,
-        input_support: false,
-    };
+    let config = common::configs::long_velocity(Law::Dahl);
     let mut best = f64::INFINITY;
     let mut out = (0.0, Default::default());
     for _ in 0..5 {

@@ -7,9 +7,13 @@
 #[path = "report/peers.rs"]
 mod peers;
 
+#[path = "../tests/common/configs.rs"]
+#[allow(dead_code)]
+mod configs;
+
 use peers::RustPeer;
 use std::time::Instant;
-use vibrofric::model::{build, Config, Drive, InputId, Lateral, Law, Motion};
+use vibrofric::model::{build, InputId, Law};
 use vibrofric::physics::Params;
 
 fn main() {
@@ -23,14 +27,7 @@ fn main() {
     if let Some(&k_t) = args.get(2) {
         params.k_t = k_t;
     }
-    let cfg = Config {
-        law: Law::Dahl,
-        motion: Motion::Longitudinal,
-        drive: Drive::Velocity,
-        lateral: Lateral::Guided,
-        harmonic: true,
-        input_support: false,
-    };
+    let cfg = configs::long_velocity(Law::Dahl);
     let period = 1.0 / params.f;
     let sample_dt = period / 20.0;
     let f_scale = params.mu * params.f_n;

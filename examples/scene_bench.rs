@@ -4,11 +4,15 @@
 //!
 //! cargo run --release --example scene_bench
 
+#[path = "../tests/common/configs.rs"]
+#[allow(dead_code)]
+mod configs;
+
 use std::path::Path;
 use std::time::Instant;
 
 use vibrofric::description::scene::Scene;
-use vibrofric::model::{build, Config, Drive, InputId, Inputs, Lateral, Law, Motion, StepStats};
+use vibrofric::model::{build, Config, Drive, InputId, Inputs, Law, Motion, StepStats};
 use vibrofric::physics::Params;
 
 const RUNS: usize = 9;
@@ -78,14 +82,7 @@ fn main() {
     println!("\nWhat leaving things out saves: pairs that differ in one choice (velocity v_d = 1 mm/s or force F_d = 8 N, defaults otherwise)\n");
     println!("| configuration | µs per period | steps per period | rhs evaluations per period |");
     println!("|---|---|---|---|");
-    let base = Config {
-        law: Law::Dahl,
-        motion: Motion::Longitudinal,
-        drive: Drive::Velocity,
-        lateral: Lateral::Guided,
-        harmonic: true,
-        input_support: false,
-    };
+    let base = configs::long_velocity(Law::Dahl);
     let p = Params::default();
     let vel = Inputs {
         v_d: 1e-3,

@@ -498,6 +498,15 @@ def fmt(x):
     return str(x)
 
 
+def write_csv(path, columns, rows):
+    """Writes `rows` (dicts) with the given columns, formatted by `fmt`."""
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(columns)
+        for r in rows:
+            w.writerow([fmt(r.get(c)) for c in columns])
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -542,17 +551,9 @@ def main(argv=None):
         shutil.rmtree(workdir, ignore_errors=True)
 
     peers = out_dir / "peers_python.csv"
-    with peers.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(COLUMNS)
-        for r in rows:
-            w.writerow([fmt(r.get(c)) for c in COLUMNS])
+    write_csv(peers, COLUMNS, rows)
     cc = out_dir / "crosscheck_python.csv"
-    with cc.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(CROSS_COLUMNS)
-        for r in cross:
-            w.writerow([fmt(r.get(c)) for c in CROSS_COLUMNS])
+    write_csv(cc, CROSS_COLUMNS, cross)
     print(f"wrote {peers} ({len(rows)} rows) and {cc}")
     bad = [r for r in cross if r.get("verdict") == "DISAGREE"]
     for r in bad:
