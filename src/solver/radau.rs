@@ -2,10 +2,14 @@
 //! fixed-size `nalgebra` vectors: no heap allocation per step, deterministic.
 //!
 //! It departs from RADAU5 where the contact's structure asks for it:
-//! - Newton uses the Jacobian at each stage (a 3N×3N system, N ≤ 6) instead of one frozen at the
-//!   step start. The contact's stiffness `|v_r(t)|/s_ss` varies by orders of magnitude inside a
-//!   step; with stage Jacobians the deformation equation, linear in `s` for a given `v_r(t)`,
-//!   converges in one iteration whatever the stiffness, where a frozen Jacobian diverges.
+//! - Newton can use the Jacobian at each stage (a 3N×3N system, N ≤ 6) instead of one frozen at
+//!   the step start. The contact's stiffness `|v_r(t)|/s_ss` varies by orders of magnitude inside
+//!   a step; with stage Jacobians the deformation equation, linear in `s` for a given `v_r(t)`,
+//!   converges in one iteration whatever the stiffness, where a frozen Jacobian diverges. A 1-D
+//!   state always does so (its 3×3 system costs no more); larger states use RADAU5's simplified
+//!   iteration (one Jacobian, split by the eigenvectors of the Butcher matrix into a real and a
+//!   complex N×N system, 2–3× cheaper per attempt), stop it only on a measured contraction, and
+//!   fall back to stage Jacobians for a few steps whenever it fails.
 //! - It lands exactly on the requested end time (every call is a communication point or a
 //!   window boundary).
 //! - It locates sign changes of the system's switching functions (kinks or jumps of the
