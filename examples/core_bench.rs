@@ -28,14 +28,7 @@ fn run(params: Params, tol: f64) -> (f64, f64, vibrofric::model::StepStats) {
 
 fn main() {
     let p = Params::default();
-    let exact = common::ExactDahl {
-        v_d: 1e-3,
-        u0: p.u0,
-        omega: p.omega(),
-        s_ss: p.f_c() / p.k_t,
-        k_t: p.k_t,
-    }
-    .f_mean_after_periods(2000);
+    let exact = common::ExactDahl::new(&p, 1e-3).f_mean_after_periods(2000);
     println!(
         "exact F_mean = {exact:.15} N  (F_mean/F_C = {:.12})",
         exact / p.f_c()
@@ -59,14 +52,7 @@ fn main() {
     for k_t in [1e8, 1e10, 1e12] {
         let mut q = p;
         q.k_t = k_t;
-        let ex = common::ExactDahl {
-            v_d: 1e-3,
-            u0: q.u0,
-            omega: q.omega(),
-            s_ss: q.f_c() / k_t,
-            k_t,
-        }
-        .f_mean_after_periods(2000);
+        let ex = common::ExactDahl::new(&q, 1e-3).f_mean_after_periods(2000);
         let (fm, t, st) = run(q, 1e-6);
         println!(
             "k_t={k_t:.0e} tol=1e-6: rel.err {:.3e} time {:.3} ms steps {} rejected {} events {}",

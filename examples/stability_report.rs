@@ -32,14 +32,7 @@ struct Case {
 /// Longitudinal Dahl at `v_d` over `periods` periods in steps of `dt`, with its exact truth.
 fn exact_case(name: String, p: Params, v_d: f64, periods: usize, dt: f64) -> Case {
     let t_end = periods as f64 / p.f;
-    let exact = ExactDahl {
-        v_d,
-        u0: p.u0,
-        omega: p.omega(),
-        s_ss: p.f_c() / p.k_t,
-        k_t: p.k_t,
-    }
-    .f_mean_after_periods(periods);
+    let exact = ExactDahl::new(&p, v_d).f_mean_after_periods(periods);
     Case {
         name,
         config: long_velocity(Law::Dahl),

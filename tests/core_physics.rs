@@ -126,13 +126,7 @@ fn longitudinal_dahl_matches_its_exact_solution() {
     for (k_t, v_d) in [(1e8, 1e-3), (1e8, 2e-3), (1e10, 1e-3)] {
         let mut p = Params::default();
         p.k_t = k_t;
-        let exact = ExactDahl {
-            v_d,
-            u0: p.u0,
-            omega: p.omega(),
-            s_ss: p.f_c() / k_t,
-            k_t,
-        };
+        let exact = ExactDahl::new(&p, v_d);
         let truth = exact.f_mean_after_periods(100);
         for tol in [1e-6, 1e-9] {
             let out = run_velocity(longitudinal_velocity(Law::Dahl), p, v_d, 100.0, tol);

@@ -57,14 +57,7 @@ fn exact_row(p: Params, v_d: f64, periods: usize, dt: f64) {
     let t_end = periods as f64 / p.f;
     let n = (t_end / dt).round() as usize;
     step_checked(sim.as_mut(), t_end / n as f64, n, true);
-    let exact = ExactDahl {
-        v_d,
-        u0: p.u0,
-        omega: p.omega(),
-        s_ss: p.f_c() / p.k_t,
-        k_t: p.k_t,
-    }
-    .f_mean_after_periods(periods);
+    let exact = ExactDahl::new(&p, v_d).f_mean_after_periods(periods);
     let got = sim.outputs().f_mean;
     assert!(
         (got - exact).abs() <= TOL * p.f_c(),

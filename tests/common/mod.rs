@@ -1,6 +1,6 @@
 //! Independent truth for the tests: closed forms and reference integrations written here, not
 //! in the library. Nothing in this file calls the code under test (`configs` only names
-//! configurations).
+//! configurations; [`ExactDahl::new`] only reads parameter fields).
 #![allow(dead_code, clippy::needless_range_loop)]
 
 pub mod configs;
@@ -111,6 +111,18 @@ pub struct ExactDahl {
 }
 
 impl ExactDahl {
+    /// The exact solution for the contact parameters `p` driven at `v_d`, computed from the raw
+    /// parameters (`omega = 2·pi·f`, `s_ss = mu·F_N/k_t`) rather than the library's derived ones.
+    pub fn new(p: &vibrofric::physics::Params, v_d: f64) -> Self {
+        ExactDahl {
+            v_d,
+            u0: p.u0,
+            omega: 2.0 * PI * p.f,
+            s_ss: p.mu * p.f_n / p.k_t,
+            k_t: p.k_t,
+        }
+    }
+
     fn v_rel(&self, t: f64) -> f64 {
         self.v_d - self.u0 * self.omega * (self.omega * t).cos()
     }
