@@ -305,6 +305,7 @@ struct System<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> {
     input_support: bool,
     scale: &'a [f64],
     force_scale: f64,
+    switch_scale: [f64; MAX_SWITCH],
     cache: std::cell::Cell<([(f64, V); SUPPORT_CACHE], usize)>,
 }
 
@@ -314,12 +315,14 @@ impl<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> System<'a, V, L, D> {
         input_support: bool,
         scale: &'a [f64],
         force_scale: f64,
+        switch_scale: [f64; MAX_SWITCH],
     ) -> Self {
         System {
             dynamics,
             input_support,
             scale,
             force_scale,
+            switch_scale,
             cache: std::cell::Cell::new(([(f64::NAN, V::default()); SUPPORT_CACHE], 0)),
         }
     }
@@ -431,6 +434,10 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
         self.force_scale
     }
 
+    fn switch_scale(&self) -> [f64; MAX_SWITCH] {
+        self.switch_scale
+    }
+
     fn project(&self, y: &mut SVector<f64, N>) {
         if let Some(bound) = self.dynamics.law.bound() {
             let s = V::read(y.as_slice());
@@ -509,6 +516,8 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     scale: [f64; N],
     /// Natural magnitude of the friction force, for the error of its integral.
     force_scale: f64,
+    /// Natural magnitudes of the switching functions `v_rx` and `s·v_r`.
+    switch_scale: [f64; MAX_SWITCH],
     radau: Radau5<N>,
     /// The integrator's scratch matrices, kept across communication steps.
     work: Workspace,
@@ -551,6 +560,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             dynamics,
             scale: [0.0; N],
             force_scale: 0.0,
+            switch_scale: [0.0; MAX_SWITCH],
             radau: Radau5::new(t_start, SVector::zeros(), tolerance),
             work: Workspace::new(N),
             window: Window {
@@ -581,6 +591,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let v_nom = v_a.max(s_nom * (p.k_t / p.m).sqrt()).max(1e-9);
         self.scale[..V::DIM].fill(s_nom);
         self.force_scale = (p.k_t * s_nom).max(p.h_v * v_nom).max(1e-300);
+        self.switch_scale = [v_nom, s_nom * v_nom];
         self.dynamics
             .drive
             .scale(x_nom, v_nom, &mut self.scale[V::DIM..]);
@@ -592,6 +603,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             self.config.input_support,
             &self.scale,
             self.force_scale,
+            self.switch_scale,
         )
     }
 
@@ -623,6 +635,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             self.config.input_support,
             &scale,
             self.force_scale,
+            self.switch_scale,
         );
         let mut acc = 0.0;
         self.radau
@@ -961,7 +974,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> ContactOde<V, L
         self.dynamics.eval(t, y, vs)
     }
     fn system(&self) -> System<'_, V, L, D> {
-        System::new(&self.dynamics, self.input_support, &self.scale, 1.0)
+        System::new(
+            &self.dynamics,
+            self.input_support,
+            &self.scale,
+            1.0,
+            [0.0; MAX_SWITCH],
+        )
     }
 }
 

@@ -43,8 +43,10 @@ fn axpy(a: Mat2, k: f64, b: Mat2) -> Mat2 {
     ]
 }
 
-/// Unit vector along `v`, zero for a zero vector.
+/// Unit vector along `v`, zero for a zero vector. A subnormal `v` (a stuck contact's velocity
+/// decays into them) is scaled up first, so that `1/|v|` cannot overflow.
 fn unit<V: Vector>(v: V) -> V {
+    let v = if v.norm() < 1e-290 { v * 1e300 } else { v };
     let n = v.norm();
     if n > 0.0 {
         v * (1.0 / n)

@@ -40,6 +40,13 @@ pub trait OdeSystem<const N: usize> {
     fn switch(&self, _t: f64, _y: &SVector<f64, N>) -> [f64; MAX_SWITCH] {
         [1.0; MAX_SWITCH]
     }
+    /// Natural magnitude of each switching function. A sign change that stays within
+    /// `rtol·scale` of zero is no event: the kink it marks is below the tolerance, and the
+    /// error control steps over it (a stuck contact whose velocity hovers at 1e-19 m/s does
+    /// not chatter). Zero (the default): every sign change is an event.
+    fn switch_scale(&self) -> [f64; MAX_SWITCH] {
+        [0.0; MAX_SWITCH]
+    }
     /// Projects a state onto the invariant set of the exact flow (no-op by default).
     fn project(&self, _y: &mut SVector<f64, N>) {}
     /// The Jacobian `∂f/∂y` at `(t, y)`, if the system has it in closed form; otherwise the
@@ -371,10 +378,11 @@ impl<const N: usize> Radau5<N> {
         let nominal = sys.scale();
         let q_scale = sys.quadrature_scale();
         let n_switch = sys.n_switch().min(MAX_SWITCH);
+        let band = sys.switch_scale().map(|v| self.rtol * v);
         if n_switch > 0 {
             let g = sys.switch(self.t, &self.y);
             for k in 0..n_switch {
-                if self.switch_sign[k] == 0.0 || g[k] != 0.0 {
+                if self.switch_sign[k] == 0.0 || g[k].abs() > band[k] {
                     // Zero counts as the positive side until the function leaves it.
                     self.switch_sign[k] = if g[k] < 0.0 { -1.0 } else { 1.0 };
                 }
@@ -616,7 +624,7 @@ impl<const N: usize> Radau5<N> {
                 if let Some((_, k)) = event_target {
                     event_here = Some(k);
                 } else if let Some((theta_e, k)) =
-                    self.find_event(sys, n_switch, h, &observed, &y_new, &cont)
+                    self.find_event(sys, n_switch, &band, h, &observed, &y_new, &cont)
                 {
                     if theta_e < 1.0 - 1e-12 {
                         let te = self.t + theta_e * h;
@@ -750,6 +758,7 @@ impl<const N: usize> Radau5<N> {
         &self,
         sys: &S,
         n_switch: usize,
+        band: &[f64; MAX_SWITCH],
         h: f64,
         observed: &[([f64; MAX_SWITCH], f64); 3],
         y_new: &SVector<f64, N>,
@@ -762,7 +771,7 @@ impl<const N: usize> Radau5<N> {
             let gc = observed[i].0;
             let mut best: Option<(f64, usize)> = None;
             for k in 0..n_switch {
-                if gc[k] * self.switch_sign[k] < 0.0 {
+                if gc[k] * self.switch_sign[k] < -band[k] {
                     let sign = self.switch_sign[k];
                     let g = |theta: f64| {
                         let y = if theta == 1.0 {
