@@ -11,9 +11,12 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use super::exact::{self, Forcing};
 use super::simulator::{Ode, SimError, Simulator, StepStats};
 use super::{Config, InputId, Inputs, Outputs};
-use crate::physics::{FrictionLaw, Harmonic, InputTrack, LawJacobian, ParamId, Params, Vector};
+use crate::physics::{
+    FrictionLaw, Harmonic, InputTrack, LawJacobian, ParamId, Params, Relaxation, Vector,
+};
 use crate::solver::{OdeSystem, Radau5, Step, Workspace, MAX_DIM, MAX_SWITCH};
 
 /// Forces and motions the drive needs at one instant.
@@ -271,6 +274,28 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
             vs = vs + V::from_xy(self.tracks[2].at(t), self.tracks[3].at(t));
         }
         vs
+    }
+
+    /// The relative velocity along x of a velocity drive from `t` on, for the closed-form path:
+    /// the affine input tracks and the harmonic source's x component.
+    fn forcing_x(&self, t: f64, input_support: bool) -> Forcing {
+        let (vd, vsx) = (&self.tracks[1], &self.tracks[2]);
+        let (mut b0, mut b1) = (vd.at(t), vd.slope);
+        if input_support {
+            b0 -= vsx.at(t);
+            b1 -= vsx.slope;
+        }
+        let (amp, omega, theta0) = match &self.harmonic {
+            Some(h) => (h.v_a() * h.dir.0, std::f64::consts::TAU * h.f, h.theta(t)),
+            None => (0.0, 0.0, 0.0),
+        };
+        Forcing {
+            b0,
+            b1,
+            amp,
+            omega,
+            theta0,
+        }
     }
 
     /// Everything at `(t, y)`, given the support velocity `vs` at `t`.
@@ -626,8 +651,75 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         Ok(InputId::ALL.iter().position(|&i| i == id).unwrap_or(0))
     }
 
+    /// The closed-form path's relaxation, where this contact takes it: a longitudinal velocity
+    /// drive (no body state) with a law that relaxes exponentially (Dahl, `kappa = 1`).
+    fn exact_path(&self) -> Option<Relaxation> {
+        if V::DIM == 1 && D::N_BODY == 0 {
+            self.dynamics.law.relaxation()
+        } else {
+            None
+        }
+    }
+
+    /// Advances the closed-form path to `t_target`; returns `exp(−decay)`'s exponent and the
+    /// window's `∫F_Fx dt` over the call.
+    fn advance_exact(&mut self, relax: Relaxation, t_target: f64) -> (f64, f64) {
+        let t0 = self.radau.t;
+        let forcing = self.dynamics.forcing_x(t0, self.config.input_support);
+        let a = exact::advance(
+            &forcing,
+            relax,
+            self.radau.y[0],
+            t_target - t0,
+            self.radau.tolerance(),
+        );
+        self.radau.t = t_target;
+        self.radau.y[0] = a.s;
+        self.radau.restart();
+        let st = &mut self.radau.stats;
+        st.steps += a.segments;
+        st.events += a.roots;
+        st.rhs_evals += a.evals;
+        (a.decay, relax.stiffness * a.integral_s)
+    }
+
+    /// True when no input has a derivative set: the forcing is then periodic in the window.
+    fn inputs_held(&self) -> bool {
+        self.dynamics.tracks.iter().all(|t| t.slope == 0.0)
+    }
+
+    /// Skips `m` whole windows from the start of the current one in O(1), on the closed-form
+    /// path with held inputs: the forcing is periodic in the window, so the map of one window
+    /// is affine, `s ↦ exp(−L)·s + beta`, and `m` of them compose in closed form. The first
+    /// window is integrated to learn `L` and `beta`; the windows skipped leave no mean.
+    fn skip_windows(&mut self, relax: Relaxation, m: u64) {
+        let s0 = self.radau.y[0];
+        let (decay, integral) = self.advance_exact(relax, self.window.end());
+        let s1 = self.radau.y[0];
+        let k = (m - 1) as f64;
+        let beta = s1 - (-decay).exp() * s0;
+        // Σ_{j<k} exp(−j·L) = (1 − exp(−k·L))/(1 − exp(−L)), k when L = 0.
+        let sum = if decay > 0.0 {
+            (-k * decay).exp_m1() / (-decay).exp_m1()
+        } else {
+            k
+        };
+        let s = (-k * decay).exp() * s1 + beta * sum;
+        self.window.last = Some(integral / self.window.len);
+        self.window.acc = 0.0;
+        self.window.index += m;
+        self.radau.t = self.window.start();
+        self.radau.y[0] = s.clamp(-relax.length, relax.length);
+        self.radau.stats.steps += 1;
+    }
+
     /// Integrates to `t_target` (≤ the current window's end), accumulating `∫F_Fx dt`.
     fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
+        if let Some(relax) = self.exact_path() {
+            let (_, integral) = self.advance_exact(relax, t_target);
+            self.window.acc += integral;
+            return Ok(());
+        }
         let dynamics = self.dynamics;
         let scale = self.scale;
         let sys = System::new(
@@ -795,6 +887,15 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let h_max = self.h_max();
         let result = (|| {
             while self.radau.t < t_end {
+                if let Some(relax) = self.exact_path() {
+                    // Many whole windows ahead with the forcing periodic: skip all but the last
+                    // (whose mean is the output) in O(1).
+                    let whole = ((t_end - self.radau.t) / self.window.len).floor();
+                    if self.radau.t == self.window.start() && self.inputs_held() && whole >= 3.0 {
+                        self.skip_windows(relax, whole as u64 - 1);
+                        continue;
+                    }
+                }
                 let mut t_b = self.window.end();
                 if (t_b - t_end).abs() <= TIME_SNAP * t_end.abs() {
                     // A communication point on a window boundary completes the window,

@@ -7,6 +7,7 @@
 
 mod config;
 mod contact;
+mod exact;
 mod ids;
 mod simulator;
 

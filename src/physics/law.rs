@@ -65,6 +65,16 @@ fn elastic(k_t: f64, rate_s: Mat2, rate_v: Mat2) -> LawJacobian {
     }
 }
 
+/// A deformation that relaxes exponentially in the relative displacement:
+/// `ds/dt = v_r − |v_r|·s/length` with a constant `length`, and `F_F = stiffness·s`. Then for a
+/// given `v_r(t)` the rate is linear in `s` with the scalar decay `|v_r|/length`, and in 1-D,
+/// between sign changes `sigma` of `v_r`, `s = sigma·length + (s_0 − sigma·length)·exp(−|x_r − x_r0|/length)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Relaxation {
+    pub length: f64,
+    pub stiffness: f64,
+}
+
 /// One friction law with its constants precomputed from [`Params`].
 pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     /// Whether the law has a discontinuity off `v_r = 0` in planar motion that the integrator
@@ -84,6 +94,10 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn s_scale(&self) -> f64;
     /// Partial derivatives at `(s, v_r)`, with `ds = rate(s, v_r)`.
     fn jacobian<V: Vector>(&self, s: V, vr: V, ds: V) -> LawJacobian;
+    /// The law's exponential relaxation, where it has one (Dahl with `kappa = 1` and friction).
+    fn relaxation(&self) -> Option<Relaxation> {
+        None
+    }
 }
 
 /// Dahl (SPEC §2, Eqs. 1, 3 with gamma = 1).
@@ -170,6 +184,13 @@ impl FrictionLaw for Dahl {
                 diag(w.abs().powf(self.kappa) * w.signum()),
             )
         }
+    }
+
+    fn relaxation(&self) -> Option<Relaxation> {
+        (self.kappa == 1.0 && self.inv_s_ss > 0.0).then_some(Relaxation {
+            length: self.s_ss,
+            stiffness: self.k_t,
+        })
     }
 }
 

@@ -154,9 +154,39 @@ pub fn sin(x: f64) -> f64 {
     }
 }
 
+/// `(sin x, cos x)` with one argument reduction: the same bits as [`sin`] and [`cos`].
+#[inline(always)]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    if x.abs() > MAX_ARG || !x.is_finite() {
+        return x.sin_cos();
+    }
+    if x.abs() < TINY {
+        return (x, 1.0);
+    }
+    let (q, hi, lo) = reduce(x);
+    let (s, c) = (kernel_sin(hi, lo), kernel_cos(hi, lo));
+    match q {
+        0 => (s, c),
+        1 => (c, -s),
+        2 => (-s, -c),
+        _ => (-c, s),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn sin_cos_is_sin_and_cos_bit_for_bit() {
+        for k in 0..20_000 {
+            let x = -30.0 + 60.0 * k as f64 / 20_000.0 + 1e-9 * k as f64;
+            let (s, c) = sin_cos(x);
+            assert_eq!(s.to_bits(), sin(x).to_bits(), "sin {x}");
+            assert_eq!(c.to_bits(), cos(x).to_bits(), "cos {x}");
+        }
+        assert_eq!(sin_cos(1e-10), (sin(1e-10), cos(1e-10)));
+    }
 
     /// Distance in units in the last place, with an absolute floor of one ulp of 1e-16
     /// where the result itself is near zero.

@@ -7,6 +7,7 @@
 #![allow(clippy::needless_range_loop)]
 
 mod lu;
+pub mod quadrature;
 mod radau;
 
 pub use radau::{

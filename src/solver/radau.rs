@@ -624,7 +624,7 @@ impl<const N: usize> Radau5<N> {
                 if let Some((_, k)) = event_target {
                     event_here = Some(k);
                 } else if let Some((theta_e, k)) =
-                    self.find_event(sys, n_switch, &band, h, &observed, &y_new, &cont)
+                    self.find_event(sys, n_switch, h, &observed, &y_new, &cont)
                 {
                     if theta_e < 1.0 - 1e-12 {
                         let te = self.t + theta_e * h;
@@ -758,12 +758,12 @@ impl<const N: usize> Radau5<N> {
         &self,
         sys: &S,
         n_switch: usize,
-        band: &[f64; MAX_SWITCH],
         h: f64,
         observed: &[([f64; MAX_SWITCH], f64); 3],
         y_new: &SVector<f64, N>,
         cont: &[SVector<f64, N>; 3],
     ) -> Option<(f64, usize)> {
+        let band = sys.switch_scale().map(|v| self.rtol * v);
         // Nodes: the stages (exact stage values); the last stage is the step's end.
         let mut a = 0.0;
         let mut ga = [0.0f64; MAX_SWITCH];
