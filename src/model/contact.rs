@@ -12,7 +12,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::exact::{self, Forcing};
-use super::simulator::{Ode, SimError, Simulator, StepStats};
+use super::simulator::{Ode, Path, SimError, Simulator, StepStats};
 use super::{Config, InputId, Inputs, Outputs};
 use crate::physics::{
     FrictionLaw, Harmonic, InputTrack, LawJacobian, ParamId, Params, Relaxation, Vector,
@@ -544,6 +544,8 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     /// Natural magnitudes of the switching functions `v_rx` and `s·v_r`.
     switch_scale: [f64; MAX_SWITCH],
     radau: Radau5<N>,
+    /// Radau even where the closed form applies (tests and benchmarks of the fast path).
+    radau_only: bool,
     /// The integrator's scratch matrices, kept across communication steps.
     work: Workspace,
     window: Window,
@@ -555,11 +557,12 @@ pub fn boxed<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     params: Params,
     t_start: f64,
     tolerance: f64,
+    path: Path,
 ) -> Box<dyn Simulator> {
     assert_eq!(N, V::DIM + D::N_BODY, "state dimension of {config:?}");
-    Box::new(Contact::<V, L, D, N>::new(
-        config, params, t_start, tolerance,
-    ))
+    let mut c = Contact::<V, L, D, N>::new(config, params, t_start, tolerance);
+    c.radau_only = path == Path::Radau;
+    Box::new(c)
 }
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
@@ -587,6 +590,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             force_scale: 0.0,
             switch_scale: [0.0; MAX_SWITCH],
             radau: Radau5::new(t_start, SVector::zeros(), tolerance),
+            radau_only: false,
             work: Workspace::new(N),
             window: Window {
                 origin: t_start,
@@ -654,7 +658,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     /// The closed-form path's relaxation, where this contact takes it: a longitudinal velocity
     /// drive (no body state) with a law that relaxes exponentially (Dahl, `kappa = 1`).
     fn exact_path(&self) -> Option<Relaxation> {
-        if V::DIM == 1 && D::N_BODY == 0 {
+        if V::DIM == 1 && D::N_BODY == 0 && !self.radau_only {
             self.dynamics.law.relaxation()
         } else {
             None
@@ -973,6 +977,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         }
     }
 
+    fn path(&self) -> Path {
+        if self.exact_path().is_some() {
+            Path::ClosedForm
+        } else {
+            Path::Radau
+        }
+    }
+
     fn snapshot(&self) -> Vec<f64> {
         let mut out = Vec::with_capacity(Self::SNAPSHOT_LEN);
         out.push(self.config_code());
@@ -1042,6 +1054,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             last: (w[5] != 0.0).then_some(w[4]),
         };
         c.radau = radau;
+        c.radau_only = self.radau_only;
         c.update_scale();
         *self = c;
         Ok(())

@@ -14,4 +14,4 @@ mod simulator;
 pub use config::{Config, Drive, Lateral, Law, Motion};
 pub use contact::canonical_time;
 pub use ids::{param_present, InputId, Inputs, OutputId, Outputs};
-pub use simulator::{build, Ode, SimError, Simulator, StepStats};
+pub use simulator::{build, build_on, Ode, Path, SimError, Simulator, StepStats};

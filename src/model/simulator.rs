@@ -95,6 +95,8 @@ pub trait Simulator: Send {
     fn outputs(&self) -> Outputs;
     /// Integrator work since the simulator was built.
     fn stats(&self) -> StepStats;
+    /// The integrator this simulator steps with.
+    fn path(&self) -> Path;
     /// The complete state as numbers; [`Simulator::restore`] on a simulator built with the same
     /// configuration continues bit-for-bit.
     fn snapshot(&self) -> Vec<f64>;
@@ -127,13 +129,37 @@ pub trait Ode: Send + Sync {
     fn v_rx(&self, t: f64, y: &[f64]) -> f64;
 }
 
+/// The integrator a simulator steps with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Path {
+    /// The deformation in closed form between sign changes of `v_r`, only the mean force by
+    /// quadrature (longitudinal Dahl, `kappa = 1`, velocity drive).
+    ClosedForm,
+    /// Radau IIA of order 5 on the whole state: every other contact, and the reference the
+    /// fast paths are tested against.
+    Radau,
+}
+
 /// Builds the simulator for a configuration, with the body at rest at the origin, zero
-/// deformation, zero inputs, starting at `t_start` with relative tolerance `tolerance`.
+/// deformation, zero inputs, starting at `t_start` with relative tolerance `tolerance`. It takes
+/// the fastest path the configuration allows.
 pub fn build(
     config: Config,
     params: Params,
     t_start: f64,
     tolerance: f64,
+) -> Result<Box<dyn Simulator>, SimError> {
+    build_on(config, params, t_start, tolerance, Path::ClosedForm)
+}
+
+/// [`build`] with the path chosen: [`Path::Radau`] forces the general integrator (for tests and
+/// benchmarks of the fast paths); [`Path::ClosedForm`] takes it where it applies.
+pub fn build_on(
+    config: Config,
+    params: Params,
+    t_start: f64,
+    tolerance: f64,
+    path: Path,
 ) -> Result<Box<dyn Simulator>, SimError> {
     params.validate()?;
     if !(tolerance.is_finite() && tolerance > 0.0) {
@@ -151,9 +177,9 @@ pub fn build(
     macro_rules! with_law {
         ($v:ty, $d:ty, $n:literal) => {
             match c.law {
-                Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance),
-                Law::Dupont => boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance),
-                Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance),
+                Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance, path),
+                Law::Dupont => boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance, path),
+                Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance, path),
             }
         };
     }

@@ -1,0 +1,146 @@
+//! The fast paths against the general integrator: every standard scene stepped on the path it
+//! takes and on Radau IIA alone, at tolerances 1e-6 and 1e-9, with held and with ramped inputs;
+//! and a step over a million vibration periods against stepping them one by one.
+
+use std::path::{Path as FsPath, PathBuf};
+
+use vibrofric::description::scene::Scene;
+use vibrofric::model::{build, build_on, InputId, Outputs, Path, Simulator};
+
+fn scenes() -> Vec<Scene> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir("scenes")
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    paths.sort();
+    paths
+        .iter()
+        .map(|p| Scene::load(FsPath::new(p)).unwrap())
+        .collect()
+}
+
+/// Runs `scene` on `path` for 0.05 s (100 periods at 2 kHz) in communication steps of 1 ms,
+/// ramping the drive input over the second half through its derivative when `ramp`.
+fn run(scene: &Scene, path: Path, tol: f64, ramp: bool) -> (Vec<Outputs>, Path) {
+    let mut sim = build_on(scene.config, scene.start, 0.0, tol, path).unwrap();
+    for id in InputId::ALL {
+        if id.present(&scene.config) {
+            sim.set_input(id, id.get(&scene.inputs)).unwrap();
+        }
+    }
+    let drive = [InputId::VD, InputId::FD]
+        .into_iter()
+        .find(|id| id.present(&scene.config));
+    let mut out = vec![];
+    for k in 1..=50 {
+        if let (true, Some(id), true) = (ramp, drive, k > 25) {
+            // +20 % of the drive per 25 ms, as a master extrapolating its output would.
+            let v0 = id.get(&scene.inputs);
+            let v = v0 * (1.0 + 0.2 * (k - 26) as f64 / 25.0);
+            sim.set_input(id, v).unwrap();
+            sim.set_input_derivative(id, 0.2 * v0 / 0.025).unwrap();
+        }
+        sim.step_to(k as f64 * 1e-3).unwrap();
+        out.push(sim.outputs());
+    }
+    (out, sim.path())
+}
+
+#[test]
+fn every_standard_scene_agrees_with_radau_at_tolerances_1e_6_and_1e_9() {
+    for scene in scenes() {
+        let f_c = scene.start.f_c();
+        let s_ss = f_c / scene.start.k_t;
+        for tol in [1e-6, 1e-9] {
+            for ramp in [false, true] {
+                let (fast, path) = run(&scene, Path::ClosedForm, tol, ramp);
+                let (radau, _) = run(&scene, Path::Radau, tol, ramp);
+                let name = &scene.model_identifier;
+                for (k, (a, b)) in fast.iter().zip(&radau).enumerate() {
+                    let what = format!("{name} ({path:?}) tol {tol} ramp {ramp} at {} ms", k + 1);
+                    // Radau's global error is of the order of its tolerance: 20·tol of F_C
+                    // bounds both runs' errors together.
+                    for (q, x, y) in [
+                        ("F_Fx", a.f_fx, b.f_fx),
+                        ("F_mean", a.f_mean, b.f_mean),
+                        ("F_Fy", a.f_fy, b.f_fy),
+                    ] {
+                        assert!((x - y).abs() <= 20.0 * tol * f_c, "{what}: {q} {x} vs {y}");
+                    }
+                    assert!((a.s_x - b.s_x).abs() <= 20.0 * tol * s_ss, "{what}: s_x");
+                    assert!(
+                        (a.x - b.x).abs() <= 20.0 * tol * (s_ss + b.x.abs()),
+                        "{what}: x"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn paper_longitudinal_takes_the_closed_form_and_planar_scenes_radau() {
+    for scene in scenes() {
+        let sim = build(scene.config, scene.start, 0.0, 1e-6).unwrap();
+        let expected = if scene.model_identifier == "PaperLongitudinal" {
+            Path::ClosedForm
+        } else {
+            Path::Radau
+        };
+        assert_eq!(sim.path(), expected, "{}", scene.model_identifier);
+    }
+}
+
+/// One step over 1e6 periods of 2 kHz vibration with the inputs held costs O(1) and equals
+/// stepping the same time period by period.
+#[test]
+fn a_step_over_a_million_periods_equals_stepping_them() {
+    let scene = Scene::load(FsPath::new("scenes/paper-longitudinal.toml")).unwrap();
+    let tol = 1e-8;
+    let t_end = 1e6 / scene.start.f;
+    let start = |sim: &mut Box<dyn Simulator>| {
+        sim.set_input(InputId::VD, scene.inputs.v_d).unwrap();
+    };
+    let mut one = build(scene.config, scene.start, 0.0, tol).unwrap();
+    start(&mut one);
+    one.step_to(t_end).unwrap();
+    // O(1): a handful of segments, not millions.
+    assert!(one.stats().steps < 100, "{:?}", one.stats());
+
+    let mut each = build(scene.config, scene.start, 0.0, tol).unwrap();
+    start(&mut each);
+    let period = 1.0 / scene.start.f;
+    for k in 1..=1_000_000u64 {
+        each.step_to(k as f64 * period).unwrap();
+    }
+    let (a, b) = (one.outputs(), each.outputs());
+    let f_c = scene.start.f_c();
+    let s_ss = f_c / scene.start.k_t;
+    assert!(
+        (a.f_mean - b.f_mean).abs() <= tol * f_c,
+        "F_mean {} vs {}",
+        a.f_mean,
+        b.f_mean
+    );
+    assert!(
+        (a.s_x - b.s_x).abs() <= tol * s_ss,
+        "s {} vs {}",
+        a.s_x,
+        b.s_x
+    );
+    assert!(
+        (a.f_fx - b.f_fx).abs() <= tol * f_c,
+        "F_Fx {} vs {}",
+        a.f_fx,
+        b.f_fx
+    );
+    // x = v_d·t exactly in one step; stepping adds 1e6 rounded increments.
+    assert!(
+        (a.x - b.x).abs() <= 1e6 * f64::EPSILON * b.x.abs(),
+        "x {} vs {}",
+        a.x,
+        b.x
+    );
+    assert_eq!(a.x, scene.inputs.v_d * t_end);
+}
