@@ -1,5 +1,8 @@
-//! Issue-2 measurements: F_mean error against the exact solution and single-core run time of
-//! the paper-longitudinal configuration (Dahl, velocity drive, defaults, 1 s).
+//! F_mean error against the exact solution and single-core run time of the paper-longitudinal
+//! configuration (Dahl, velocity drive, defaults, 1 s = 2000 periods), on each path:
+//! - closed form, one communication step of 1 s (windows skipped in O(1));
+//! - closed form, stepped period by period (5e-4 s: every window integrated);
+//! - Radau IIA alone, one step of 1 s (the general integrator the closed form replaces).
 //!
 //! cargo run --release --example core_bench
 
@@ -7,20 +10,23 @@
 mod common;
 
 use std::time::Instant;
-use vibrofric::model::{build, Law};
+use vibrofric::model::{build_on, InputId, Law, Path, StepStats};
 use vibrofric::physics::Params;
 
-fn run(params: Params, tol: f64) -> (f64, f64, vibrofric::model::StepStats) {
+/// Best of 5 runs: (F_mean, seconds, work).
+fn run(params: Params, tol: f64, path: Path, step: f64) -> (f64, f64, StepStats) {
     let config = common::configs::long_velocity(Law::Dahl);
     let mut best = f64::INFINITY;
     let mut out = (0.0, Default::default());
+    let n = (1.0 / step).round() as usize;
     for _ in 0..5 {
         let start = Instant::now();
-        let mut sim = build(config, params, 0.0, tol).unwrap();
-        sim.set_input(vibrofric::model::InputId::VD, 1e-3).unwrap();
-        sim.step_to(1.0).unwrap();
-        let el = start.elapsed().as_secs_f64();
-        best = best.min(el);
+        let mut sim = build_on(config, params, 0.0, tol, path).unwrap();
+        sim.set_input(InputId::VD, 1e-3).unwrap();
+        for k in 1..=n {
+            sim.step_to(k as f64 * step).unwrap();
+        }
+        best = best.min(start.elapsed().as_secs_f64());
         out = (sim.outputs().f_mean, sim.stats());
     }
     (out.0, best, out.1)
@@ -33,34 +39,41 @@ fn main() {
         "exact F_mean = {exact:.15} N  (F_mean/F_C = {:.12})",
         exact / p.f_c()
     );
+    let modes = [
+        ("closed form, 1 step", Path::ClosedForm, 1.0),
+        ("closed form, per period", Path::ClosedForm, 5e-4),
+        ("Radau, 1 step", Path::Radau, 1.0),
+    ];
     println!(
-        "{:>8} {:>12} {:>10} {:>8} {:>8} {:>8} {:>8}",
-        "tol", "rel.err", "time[ms]", "steps", "rejct", "events", "jacs"
+        "{:>24} {:>8} {:>12} {:>10} {:>8} {:>8} {:>8}",
+        "path", "tol", "rel.err", "time[ms]", "steps", "events", "evals"
     );
-    for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
-        let (fm, t, st) = run(p, tol);
-        println!(
-            "{tol:>8.0e} {:>12.3e} {:>10.3} {:>8} {:>8} {:>8} {:>8}",
-            ((fm - exact) / exact).abs(),
-            t * 1e3,
-            st.steps,
-            st.rejected,
-            st.events,
-            st.jacobians
-        );
+    for (name, path, step) in modes {
+        for tol in [1e-4, 1e-6, 1e-8, 1e-10] {
+            let (fm, t, st) = run(p, tol, path, step);
+            println!(
+                "{name:>24} {tol:>8.0e} {:>12.3e} {:>10.3} {:>8} {:>8} {:>8}",
+                ((fm - exact) / exact).abs(),
+                t * 1e3,
+                st.steps,
+                st.events,
+                st.rhs_evals
+            );
+        }
     }
-    for k_t in [1e8, 1e10, 1e12] {
-        let mut q = p;
-        q.k_t = k_t;
-        let ex = common::ExactDahl::new(&q, 1e-3).f_mean_after_periods(2000);
-        let (fm, t, st) = run(q, 1e-6);
-        println!(
-            "k_t={k_t:.0e} tol=1e-6: rel.err {:.3e} time {:.3} ms steps {} rejected {} events {}",
-            ((fm - ex) / ex).abs(),
-            t * 1e3,
-            st.steps,
-            st.rejected,
-            st.events
-        );
+    for (name, path, step) in modes {
+        for k_t in [1e8, 1e10, 1e12] {
+            let mut q = p;
+            q.k_t = k_t;
+            let ex = common::ExactDahl::new(&q, 1e-3).f_mean_after_periods(2000);
+            let (fm, t, st) = run(q, 1e-6, path, step);
+            println!(
+                "{name}: k_t={k_t:.0e} tol=1e-6: rel.err {:.3e} time {:.3} ms steps {} events {}",
+                ((fm - ex) / ex).abs(),
+                t * 1e3,
+                st.steps,
+                st.events
+            );
+        }
     }
 }
