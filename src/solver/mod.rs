@@ -1,6 +1,8 @@
-//! The integrator: an L-stable, stiffly accurate Radau IIA method of order 5 with error control,
-//! dense output, located switching events and exact landing on requested times. It knows
-//! nothing of friction or of FMI: it integrates any [`OdeSystem`].
+//! The numerical methods, knowing nothing of friction or of FMI:
+//! - [`Radau5`]: an L-stable, stiffly accurate Radau IIA method of order 5 with error control,
+//!   dense output, located switching events and exact landing on requested times, for any
+//!   [`OdeSystem`];
+//! - [`quadrature`]: adaptive Gauss–Kronrod 7/15, for integrals of closed-form solutions.
 
 // Numerical kernels index several arrays in lockstep (stages, Butcher rows, matrix entries);
 // index loops say that more plainly than zipped iterators.
