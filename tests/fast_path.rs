@@ -80,13 +80,13 @@ fn every_standard_scene_agrees_with_radau_at_tolerances_1e_6_and_1e_9() {
 }
 
 #[test]
-fn paper_longitudinal_takes_the_closed_form_and_planar_scenes_radau() {
+fn each_standard_scene_takes_the_path_its_structure_allows() {
     for scene in scenes() {
         let sim = build(scene.config, scene.start, 0.0, 1e-6).unwrap();
-        let expected = if scene.model_identifier == "PaperLongitudinal" {
-            Path::ClosedForm
-        } else {
-            Path::Radau
+        let expected = match scene.model_identifier.as_str() {
+            "PaperLongitudinal" => Path::ClosedForm,
+            "PaperTransverseGuided" => Path::Exponential,
+            _ => Path::Radau,
         };
         assert_eq!(sim.path(), expected, "{}", scene.model_identifier);
     }

@@ -17,6 +17,7 @@ use super::{Config, InputId, Inputs, Outputs};
 use crate::physics::{
     FrictionLaw, Harmonic, InputTrack, LawJacobian, ParamId, Params, Relaxation, Vector,
 };
+use crate::solver::expint::{ExpIntegrator, Relaxing, Sample};
 use crate::solver::{OdeSystem, Radau5, Step, Workspace, MAX_DIM, MAX_SWITCH};
 
 /// Forces and motions the drive needs at one instant.
@@ -319,6 +320,35 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
     }
 }
 
+/// A velocity drive's deformation as the exponential integrator sees it: `v_r(t)` known, the
+/// law linear in `s` (see [`FrictionLaw::linear`]).
+struct Relaxation1<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> {
+    dynamics: &'a Dynamics<V, L, D>,
+    input_support: bool,
+}
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Relaxing for Relaxation1<'_, V, L, D> {
+    fn dim(&self) -> usize {
+        V::DIM
+    }
+    #[inline(always)]
+    fn sample(&self, t: f64) -> Sample {
+        let dyn_ = self.dynamics;
+        let vs = dyn_.support_velocity(t, self.input_support);
+        let v = dyn_.drive.velocity(&[], &dyn_.drive_inputs(t));
+        let vr = v - vs;
+        match dyn_.law.linear(vr) {
+            Some(l) => Sample {
+                a: l.decay,
+                q: [l.target.x(), l.target.y()],
+                c: l.force_s,
+                d: l.force_0.x(),
+            },
+            None => Sample::default(),
+        }
+    }
+}
+
 /// Number of support velocities a [`System`] remembers: the integrator evaluates the right-hand
 /// side, its Jacobian, the switching functions and the quadrature at the same three stage times.
 const SUPPORT_CACHE: usize = 4;
@@ -546,6 +576,8 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     radau: Radau5<N>,
     /// Radau even where the closed form applies (tests and benchmarks of the fast path).
     radau_only: bool,
+    /// The exponential integrator's proposed step (0: none yet).
+    exp_h: f64,
     /// The integrator's scratch matrices, kept across communication steps.
     work: Workspace,
     window: Window,
@@ -591,6 +623,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             switch_scale: [0.0; MAX_SWITCH],
             radau: Radau5::new(t_start, SVector::zeros(), tolerance),
             radau_only: false,
+            exp_h: 0.0,
             work: Workspace::new(N),
             window: Window {
                 origin: t_start,
@@ -665,6 +698,63 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         }
     }
 
+    /// True when this contact takes the exponential integrator: a velocity drive with the
+    /// lateral motion guided (no body state) and a law linear in `s`, where the closed form
+    /// does not apply.
+    fn exp_path(&self) -> bool {
+        D::N_BODY == 0
+            && !self.radau_only
+            && self.exact_path().is_none()
+            && self.dynamics.law.linear(V::from_xy(1.0, 0.0)).is_some()
+    }
+
+    /// Advances the exponential integrator to `t_target`, steps ending on every sign change of
+    /// `v_rx` (a kink of `|v_r|` where `v_ry` vanishes too); returns the window's `∫F_Fx dt`.
+    fn advance_exp(&mut self, t_target: f64, h_max: f64) -> Result<f64, SimError> {
+        let t0 = self.radau.t;
+        let forcing = self.dynamics.forcing_x(t0, self.config.input_support);
+        let mut knots = [0.0f64; 8];
+        let mut n = 0;
+        exact::sign_changes(&forcing, t_target - t0, |r| {
+            if n < knots.len() {
+                knots[n] = t0 + r;
+                n += 1;
+            }
+        });
+        let sys = Relaxation1 {
+            dynamics: &self.dynamics,
+            input_support: self.config.input_support,
+        };
+        let mut ei = ExpIntegrator::new(self.radau.tolerance());
+        ei.h = self.exp_h;
+        let mut s = [0.0; 2];
+        s[..V::DIM].copy_from_slice(&self.radau.y.as_slice()[..V::DIM]);
+        let s_scale = self.scale[0];
+        let mut integral = 0.0;
+        let mut a = t0;
+        for &b in knots[..n].iter().chain(std::iter::once(&t_target)) {
+            if b > a {
+                integral += ei
+                    .integrate(&sys, a, b, &mut s, s_scale, self.force_scale, h_max)
+                    .map_err(SimError::Solver)?;
+                a = b;
+            }
+        }
+        let mut y = self.radau.y;
+        y.as_mut_slice()[..V::DIM].copy_from_slice(&s[..V::DIM]);
+        OdeSystem::<N>::project(&self.system(), &mut y);
+        self.radau.y = y;
+        self.radau.t = t_target;
+        self.radau.restart();
+        self.exp_h = ei.h;
+        let st = &mut self.radau.stats;
+        st.steps += ei.steps;
+        st.rejected += ei.rejected;
+        st.rhs_evals += ei.evals;
+        st.events += n as u64;
+        Ok(integral)
+    }
+
     /// Advances the closed-form path to `t_target`; returns `exp(−decay)`'s exponent and the
     /// window's `∫F_Fx dt` over the call.
     fn advance_exact(&mut self, relax: Relaxation, t_target: f64) -> (f64, f64) {
@@ -724,6 +814,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             self.window.acc += integral;
             return Ok(());
         }
+        if self.exp_path() {
+            self.window.acc += self.advance_exp(t_target, h_max)?;
+            return Ok(());
+        }
         let dynamics = self.dynamics;
         let scale = self.scale;
         let sys = System::new(
@@ -756,7 +850,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     /// Number of numbers in a snapshot.
-    const SNAPSHOT_LEN: usize = 1 + 18 + 12 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN;
+    const SNAPSHOT_LEN: usize = 1 + 18 + 12 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1;
 
     fn config_code(&self) -> f64 {
         let c = &self.config;
@@ -887,7 +981,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             c if c > t0 => c,
             _ => t_end,
         };
-        let saved = (self.radau, self.window);
+        let saved = (self.radau, self.window, self.exp_h);
         let h_max = self.h_max();
         let result = (|| {
             while self.radau.t < t_end {
@@ -918,7 +1012,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         })();
         if let Err(e) = result {
             // Leave the simulator as it was before the call.
-            (self.radau, self.window) = saved;
+            (self.radau, self.window, self.exp_h) = saved;
             return Err(e);
         }
         // Input derivatives are valid for one step: hold the inputs from here on.
@@ -980,6 +1074,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     fn path(&self) -> Path {
         if self.exact_path().is_some() {
             Path::ClosedForm
+        } else if self.exp_path() {
+            Path::Exponential
         } else {
             Path::Radau
         }
@@ -1008,6 +1104,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             w.last.is_some() as u8 as f64,
         ]);
         self.radau.save(&mut out);
+        out.push(self.exp_h);
         debug_assert_eq!(out.len(), Self::SNAPSHOT_LEN);
         out
     }
@@ -1037,8 +1134,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let x_kin_ref = rest[0];
         let (h_t_ref, h_theta_ref) = (rest[1], rest[2]);
         let w = &rest[3..9];
+        let (integrator, exp_h) = rest[9..].split_at(rest.len() - 10);
         let radau =
-            Radau5::<N>::load(&rest[9..]).ok_or(SimError::BadSnapshot("integrator state"))?;
+            Radau5::<N>::load(integrator).ok_or(SimError::BadSnapshot("integrator state"))?;
         let mut c = Contact::<V, L, D, N>::new(self.config, params, radau.t, radau.tolerance());
         c.dynamics.tracks = tracks;
         c.dynamics.x_kin_ref = x_kin_ref;
@@ -1055,6 +1153,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         };
         c.radau = radau;
         c.radau_only = self.radau_only;
+        c.exp_h = exp_h[0];
         c.update_scale();
         *self = c;
         Ok(())

@@ -152,6 +152,20 @@ pub struct Advance {
     pub evals: u64,
 }
 
+/// Calls `at` with every sign change of `v_r` in `(0, span)`, in order.
+pub fn sign_changes(forcing: &Forcing, span: f64, mut at: impl FnMut(f64)) {
+    let mut p = 0.0;
+    let (mut vp, _) = forcing.v_dv(0.0);
+    while p < span {
+        let q = forcing.next_critical(p).min(span);
+        let (vq, _) = forcing.v_dv(q);
+        if vp * vq < 0.0 {
+            at(forcing.root(p, vp, q, vq));
+        }
+        (p, vp) = (q, vq);
+    }
+}
+
 /// Advances the deformation from `s0` over `[t0, t0 + span]` under `forcing`, with the
 /// integral of `s` to the relative tolerance `tol`.
 pub fn advance(forcing: &Forcing, relax: Relaxation, s0: f64, span: f64, tol: f64) -> Advance {
@@ -160,19 +174,11 @@ pub fn advance(forcing: &Forcing, relax: Relaxation, s0: f64, span: f64, tol: f6
         ..Advance::default()
     };
     let mut seg_start = 0.0;
-    let mut p = 0.0;
-    let (mut vp, _) = forcing.v_dv(0.0);
-    while p < span {
-        let q = forcing.next_critical(p).min(span);
-        let (vq, _) = forcing.v_dv(q);
-        if vp * vq < 0.0 {
-            let r = forcing.root(p, vp, q, vq);
-            segment(forcing, relax, seg_start, r, tol, &mut out);
-            out.roots += 1;
-            seg_start = r;
-        }
-        (p, vp) = (q, vq);
-    }
+    sign_changes(forcing, span, |r| {
+        segment(forcing, relax, seg_start, r, tol, &mut out);
+        out.roots += 1;
+        seg_start = r;
+    });
     segment(forcing, relax, seg_start, span, tol, &mut out);
     out
 }

@@ -135,6 +135,10 @@ pub enum Path {
     /// The deformation in closed form between sign changes of `v_r`, only the mean force by
     /// quadrature (longitudinal Dahl, `kappa = 1`, velocity drive).
     ClosedForm,
+    /// The deformation by exponential integration in the relaxation arc length, explicit and
+    /// of the same cost at any contact stiffness (velocity drives with the lateral motion
+    /// guided and a law linear in `s`: planar Dahl, LuGre).
+    Exponential,
     /// Radau IIA of order 5 on the whole state: every other contact, and the reference the
     /// fast paths are tested against.
     Radau,
@@ -153,7 +157,7 @@ pub fn build(
 }
 
 /// [`build`] with the path chosen: [`Path::Radau`] forces the general integrator (for tests and
-/// benchmarks of the fast paths); [`Path::ClosedForm`] takes it where it applies.
+/// benchmarks of the fast paths); any other takes the fastest that applies.
 pub fn build_on(
     config: Config,
     params: Params,

@@ -75,6 +75,17 @@ pub struct Relaxation {
     pub stiffness: f64,
 }
 
+/// A rate linear in `s` with a scalar decay: `ds/dt = v_r − decay·s = decay·(target − s)`, and a
+/// force affine in `s`: `F_F = force_s·s + force_0`, all at one relative velocity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Linear<V> {
+    pub decay: f64,
+    /// `v_r/decay`: where `s` relaxes to (zero where `v_r = 0`).
+    pub target: V,
+    pub force_s: f64,
+    pub force_0: V,
+}
+
 /// One friction law with its constants precomputed from [`Params`].
 pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     /// Whether the law has a discontinuity off `v_r = 0` in planar motion that the integrator
@@ -96,6 +107,11 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn jacobian<V: Vector>(&self, s: V, vr: V, ds: V) -> LawJacobian;
     /// The law's exponential relaxation, where it has one (Dahl with `kappa = 1` and friction).
     fn relaxation(&self) -> Option<Relaxation> {
+        None
+    }
+    /// The law's linear structure at `v_r`, where its rate is linear in `s` with a scalar decay
+    /// (Dahl with `kappa = 1`, LuGre; not Dupont, whose weight depends on `s`).
+    fn linear<V: Vector>(&self, _vr: V) -> Option<Linear<V>> {
         None
     }
 }
@@ -190,6 +206,15 @@ impl FrictionLaw for Dahl {
         (self.kappa == 1.0 && self.inv_s_ss > 0.0).then_some(Relaxation {
             length: self.s_ss,
             stiffness: self.k_t,
+        })
+    }
+
+    fn linear<V: Vector>(&self, vr: V) -> Option<Linear<V>> {
+        (self.kappa == 1.0 && self.inv_s_ss > 0.0).then(|| Linear {
+            decay: vr.norm() * self.inv_s_ss,
+            target: unit(vr) * self.s_ss,
+            force_s: self.k_t,
+            force_0: V::default(),
         })
     }
 }
@@ -389,6 +414,22 @@ impl FrictionLaw for LuGre {
             force_v: axpy(axpy(diag(self.h_v), h_t, rate_v), 1.0, outer(ds, grad_h_t)),
         }
     }
+
+    fn linear<V: Vector>(&self, vr: V) -> Option<Linear<V>> {
+        if self.f_c == 0.0 && self.f_s == 0.0 {
+            return None;
+        }
+        let vr2 = vr.dot(vr);
+        let g = self.g(vr2);
+        let decay = vr2.sqrt() / g;
+        let h_t = self.h_t0 * (-vr2 * self.inv_v_e2).exp();
+        Some(Linear {
+            decay,
+            target: unit(vr) * g,
+            force_s: self.k_t - h_t * decay,
+            force_0: vr * (h_t + self.h_v),
+        })
+    }
 }
 
 #[cfg(test)]
@@ -431,6 +472,51 @@ mod tests {
         };
         let vp = Planar { x: 0.0, y: 1e-3 };
         assert!((d.alpha(sp, vp) - d.alpha(0.9 * s_ss, 1e-3)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn linear_structure_reproduces_rate_and_force() {
+        let p = Params {
+            h_v: 20.0,
+            ..Params::default()
+        };
+        fn check<L: FrictionLaw>(law: L, s_ss: f64) {
+            for (k, &(sx, sy, vx, vy)) in [
+                (0.3, -0.2, 1e-3, 2e-4),
+                (-0.9, 0.1, -4e-4, 0.0),
+                (0.5, 0.5, 1e-6, -3e-3),
+                (0.2, 0.0, 0.0, 0.0),
+            ]
+            .iter()
+            .enumerate()
+            {
+                let (s, vr) = (
+                    Planar {
+                        x: sx * s_ss,
+                        y: sy * s_ss,
+                    },
+                    Planar { x: vx, y: vy },
+                );
+                let lin = law.linear(vr).unwrap();
+                let ds = law.rate(s, vr);
+                let rate = (lin.target - s) * lin.decay;
+                let f = law.force(s, vr, ds);
+                let f_lin = s * lin.force_s + lin.force_0;
+                for (a, b) in [(ds.x, rate.x), (ds.y, rate.y)] {
+                    assert!(
+                        (a - b).abs() <= 1e-12 * (vx.abs() + vy.abs() + 1e-9),
+                        "{k}: {a} {b}"
+                    );
+                }
+                for (a, b) in [(f.x, f_lin.x), (f.y, f_lin.y)] {
+                    assert!((a - b).abs() <= 1e-12 * (f.norm() + 1.0), "{k}: {a} {b}");
+                }
+            }
+        }
+        let s_ss = p.f_c() / p.k_t;
+        check(Dahl::new(&p), s_ss);
+        check(LuGre::new(&p), s_ss);
+        assert!(Dupont::new(&p).linear(1e-3).is_none());
     }
 
     #[test]

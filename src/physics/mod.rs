@@ -7,7 +7,7 @@ mod support;
 pub mod trig;
 mod vector;
 
-pub use law::{Dahl, Dupont, FrictionLaw, LawJacobian, LuGre, Mat2, Relaxation};
+pub use law::{Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation};
 pub use params::{ParamError, ParamId, Params, Rule};
 pub use support::{Harmonic, InputTrack};
 pub use vector::{Planar, Vector};

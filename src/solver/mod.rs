@@ -8,6 +8,7 @@
 // index loops say that more plainly than zipped iterators.
 #![allow(clippy::needless_range_loop)]
 
+pub mod expint;
 mod lu;
 pub mod quadrature;
 mod radau;
