@@ -12,7 +12,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use vibrofric::description::scene::Scene;
-use vibrofric::model::{build, Config, Drive, InputId, Inputs, Law, Motion, StepStats};
+use vibrofric::model::{
+    build, Config, Drive, InputId, Inputs, Law, Motion, Path as SolverPath, StepStats,
+};
 use vibrofric::physics::Params;
 
 const RUNS: usize = 9;
@@ -21,9 +23,10 @@ const T_END: f64 = 0.1;
 const NOMINAL_PERIOD: f64 = 5e-4;
 
 /// Median wall time of a run to `T_END` with communication step 1e-3 s, and its work counters.
-fn time_run(config: Config, params: Params, inputs: Inputs) -> (f64, StepStats) {
+fn time_run(config: Config, params: Params, inputs: Inputs) -> (f64, StepStats, SolverPath) {
     let mut times = Vec::with_capacity(RUNS);
     let mut stats = StepStats::default();
+    let mut path = SolverPath::Radau;
     for _ in 0..RUNS {
         let start = Instant::now();
         let mut sim = build(config, params, 0.0, 1e-6).unwrap();
@@ -37,9 +40,10 @@ fn time_run(config: Config, params: Params, inputs: Inputs) -> (f64, StepStats) 
         }
         times.push(start.elapsed().as_secs_f64());
         stats = sim.stats();
+        path = sim.path();
     }
     times.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    (times[RUNS / 2], stats)
+    (times[RUNS / 2], stats, path)
 }
 
 fn row(name: &str, config: Config, params: Params, inputs: Inputs) -> f64 {
@@ -49,10 +53,10 @@ fn row(name: &str, config: Config, params: Params, inputs: Inputs) -> f64 {
         NOMINAL_PERIOD
     };
     let periods = T_END / period;
-    let (t, s) = time_run(config, params, inputs);
+    let (t, s, path) = time_run(config, params, inputs);
     let per = t / periods * 1e6;
     println!(
-        "| {name} | {per:.2} | {:.1} | {:.1} |",
+        "| {name} | {path:?} | {per:.2} | {:.1} | {:.1} |",
         s.steps as f64 / periods,
         s.rhs_evals as f64 / periods
     );
@@ -61,8 +65,8 @@ fn row(name: &str, config: Config, params: Params, inputs: Inputs) -> f64 {
 
 fn main() {
     println!("Standard scenes (tolerance 1e-6, communication step 1 ms, median of {RUNS} runs of 0.1 s)\n");
-    println!("| scene | µs per period | steps per period | rhs evaluations per period |");
-    println!("|---|---|---|---|");
+    println!("| scene | path | µs per period | steps per period | rhs evaluations per period |");
+    println!("|---|---|---|---|---|");
     let mut paths: Vec<_> = std::fs::read_dir("scenes")
         .expect("run from the repository root")
         .filter_map(|e| e.ok().map(|e| e.path()))
@@ -80,8 +84,10 @@ fn main() {
     }
 
     println!("\nWhat leaving things out saves: pairs that differ in one choice (velocity v_d = 1 mm/s or force F_d = 8 N, defaults otherwise)\n");
-    println!("| configuration | µs per period | steps per period | rhs evaluations per period |");
-    println!("|---|---|---|---|");
+    println!(
+        "| configuration | path | µs per period | steps per period | rhs evaluations per period |"
+    );
+    println!("|---|---|---|---|---|");
     let base = configs::long_velocity(Law::Dahl);
     let p = Params::default();
     let vel = Inputs {
@@ -102,7 +108,7 @@ fn main() {
         p,
         vel,
     );
-    println!("| planar / longitudinal | {:.2}× | | |", b / a);
+    println!("| planar / longitudinal | | {:.2}× | | |", b / a);
     let c = row(
         "Dahl, longitudinal, force",
         Config {
@@ -112,7 +118,7 @@ fn main() {
         p,
         force,
     );
-    println!("| force / velocity drive | {:.2}× | | |", c / a);
+    println!("| force / velocity drive | | {:.2}× | | |", c / a);
     let d = row(
         "LuGre, longitudinal, velocity",
         Config {
@@ -122,7 +128,7 @@ fn main() {
         p,
         vel,
     );
-    println!("| LuGre / Dahl | {:.2}× | | |", d / a);
+    println!("| LuGre / Dahl | | {:.2}× | | |", d / a);
     let e = row(
         "Dahl, planar, force, harmonic + input support",
         Config {
@@ -135,7 +141,7 @@ fn main() {
         force,
     );
     println!(
-        "| default contact / paper-longitudinal | {:.2}× | | |",
+        "| default contact / paper-longitudinal | | {:.2}× | | |",
         e / a
     );
 }

@@ -49,7 +49,29 @@ fn run(scene: &Scene, path: Path, tol: f64, ramp: bool) -> (Vec<Outputs>, Path) 
 
 #[test]
 fn every_standard_scene_agrees_with_radau_at_tolerances_1e_6_and_1e_9() {
-    for scene in scenes() {
+    compare(scenes());
+}
+
+/// The fast paths at `k_t` = 1e11, where a relaxation spans a thousandth of a period.
+#[test]
+fn stiff_fast_paths_agree_with_radau() {
+    let stiff: Vec<Scene> = scenes()
+        .into_iter()
+        .filter(|s| {
+            let sim = build(s.config, s.start, 0.0, 1e-6).unwrap();
+            sim.path() != Path::Radau
+        })
+        .map(|mut s| {
+            s.start.k_t = 1e11;
+            s
+        })
+        .collect();
+    assert_eq!(stiff.len(), 2);
+    compare(stiff);
+}
+
+fn compare(scenes: Vec<Scene>) {
+    for scene in scenes {
         let f_c = scene.start.f_c();
         let s_ss = f_c / scene.start.k_t;
         for tol in [1e-6, 1e-9] {
