@@ -2,6 +2,8 @@
 //! - [`Radau5`]: an L-stable, stiffly accurate Radau IIA method of order 5 with error control,
 //!   dense output, located switching events and exact landing on requested times, for any
 //!   [`OdeSystem`];
+//! - [`expint`]: exponential integration of a deformation relaxing toward a moving target at a
+//!   scalar rate, explicit and of the same cost at any stiffness;
 //! - [`quadrature`]: adaptive Gauss–Kronrod 7/15, for integrals of closed-form solutions.
 
 // Numerical kernels index several arrays in lockstep (stages, Butcher rows, matrix entries);
