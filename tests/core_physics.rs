@@ -566,6 +566,27 @@ fn dahl_with_exponent_matches_reference_runge_kutta() {
     }
 }
 
+/// The exponents the literature uses, down to 0.1 where `w` reaches 0 in finite displacement
+/// (the deformation then sits at `±s_ss`, a kink), against the exact solution over 400
+/// periods, at tolerances 1e-6 and 1e-9.
+#[test]
+fn dahl_with_exponents_matches_its_exact_solution() {
+    for kappa in [0.1, 0.2, 0.5, 2.0] {
+        let mut p = Params::default();
+        p.kappa = kappa;
+        let exact = ExactDahl::new(&p, 1e-3);
+        let f_mean = exact.f_mean_after_periods(400);
+        for tol in [1e-6, 1e-9] {
+            let out = run_velocity(longitudinal_velocity(Law::Dahl), p, 1e-3, 400.0, tol);
+            assert!(
+                (out.f_mean - f_mean).abs() <= tol * p.f_c(),
+                "kappa {kappa}, tol {tol}: F_mean {} vs {f_mean}",
+                out.f_mean
+            );
+        }
+    }
+}
+
 #[test]
 fn dupont_matches_reference_runge_kutta() {
     for r_ba in [0.0, 0.5, 0.9] {

@@ -689,7 +689,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     /// The closed-form path's relaxation, where this contact takes it: a longitudinal velocity
-    /// drive (no body state) with a law that relaxes exponentially (Dahl, `kappa = 1`).
+    /// drive (no body state) with a law that relaxes in the relative displacement (Dahl).
     fn exact_path(&self) -> Option<Relaxation> {
         if V::DIM == 1 && D::N_BODY == 0 && !self.radau_only {
             self.dynamics.law.relaxation()
@@ -783,8 +783,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     /// Skips `m` whole windows from the start of the current one in O(1), on the closed-form
-    /// path with held inputs: the forcing is periodic in the window, so the map of one window
-    /// is affine, `s ↦ exp(−L)·s + beta`, and `m` of them compose in closed form. The first
+    /// path with held inputs and `kappa = 1`: the forcing is periodic in the window, so the map
+    /// of one window is affine, `s ↦ exp(−L)·s + beta`, and `m` of them compose in closed form. The first
     /// window is integrated to learn `L` and `beta`; the windows skipped leave no mean.
     fn skip_windows(&mut self, relax: Relaxation, m: u64) {
         let s0 = self.radau.y[0];
@@ -989,7 +989,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
                     // Many whole windows ahead with the forcing periodic: skip all but the last
                     // (whose mean is the output) in O(1).
                     let whole = ((t_end - self.radau.t) / self.window.len).floor();
-                    if self.radau.t == self.window.start() && self.inputs_held() && whole >= 3.0 {
+                    if relax.exponent == 1.0
+                        && self.radau.t == self.window.start()
+                        && self.inputs_held()
+                        && whole >= 3.0
+                    {
                         self.skip_windows(relax, whole as u64 - 1);
                         continue;
                     }

@@ -1,13 +1,14 @@
-//! The fast path of a longitudinal contact under velocity drive whose law relaxes exponentially
-//! (Dahl with `kappa = 1`): the deformation in closed form between sign changes of `v_r`, the
+//! The fast path of a longitudinal contact under velocity drive whose law relaxes in the
+//! relative displacement (Dahl): the deformation in closed form between sign changes of `v_r`, the
 //! sign changes in closed form or by a safeguarded Newton iteration on monotone pieces, and only
 //! the integral of the friction force by quadrature. No step size, no Newton on the state, the
 //! same cost at any contact stiffness.
 //!
-//! With `sigma = sgn(v_r)` on a segment and `phi(t) = |x_r(t) − x_r(a)|/s_ss` (relative
-//! displacement since the segment's start `a`, in units of the relaxation length),
-//! `s(t) = sigma·s_ss + (s(a) − sigma·s_ss)·exp(−phi(t))`, so that
-//! `∫ s dt = sigma·s_ss·(b − a) + (s(a) − sigma·s_ss)·∫ exp(−phi) dt`.
+//! With `sigma = sgn(v_r)` on a segment, `phi(t) = |x_r(t) − x_r(a)|/s_ss` (relative
+//! displacement since the segment's start `a`, in units of the relaxation length) and
+//! `w = 1 − sigma·s/s_ss`, `w(t) = W(w(a), phi(t))` in closed form (`w(a)·exp(−phi)` for
+//! `kappa = 1`, a power law otherwise: [`Relaxation::remaining`]), so that
+//! `s = sigma·s_ss·(1 − w)` and `∫ s dt = sigma·s_ss·((b − a) − ∫ w dt)`.
 
 use crate::physics::{trig, Relaxation};
 use crate::solver::quadrature::{adaptive, Integral};
@@ -201,35 +202,61 @@ fn segment(forcing: &Forcing, relax: Relaxation, a: f64, b: f64, tol: f64, out: 
     let phi = |tau: f64| (sigma * anchor.dx(tau) * inv_l).max(0.0);
     let phi_end = phi(len);
     let target = sigma * relax.length;
-    out.s = (target + (s_a - target) * (-phi_end).exp()).clamp(-relax.length, relax.length);
+    // w = 1 − sigma·s/s_ss: what is left to relax, in [0, 2] while |s| ≤ s_ss.
+    let w_a = (1.0 - sigma * s_a * inv_l).clamp(0.0, 2.0);
+    out.s = (target * (1.0 - relax.remaining(w_a, phi_end))).clamp(-relax.length, relax.length);
     out.decay += phi_end;
 
-    // ∫ exp(−phi) over the segment. phi grows from 0 like phi1·tau + phi2·tau²/2; panels double
-    // in length from the boundary-layer scale tau_b (phi ≈ 1 there) until exp(−phi) is below the
-    // tolerance, where the rest of the segment contributes nothing that counts.
+    // ∫ w dt over the segment. phi grows from 0 like phi1·tau + phi2·tau²/2; panels double in
+    // length from the boundary-layer scale tau_b (phi ≈ 1 there) until w is below the
+    // tolerance, or exhausted (kappa < 1: w = 0 from phi* on, a kink the panels end on).
     let budget = 0.05 * tol * len;
-    let phi_cut = (1.0 / (0.05 * tol)).ln() + 3.0;
+    let phi_cut = if relax.exponent == 1.0 {
+        (w_a / (0.05 * tol)).max(1.0).ln() + 3.0
+    } else {
+        relax.exhaustion(w_a)
+    };
+    let end = if phi_end > phi_cut {
+        // The first tau with phi(tau) = phi_cut, by bisection on the monotone phi.
+        let (mut lo, mut hi) = (0.0, len);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if phi(mid) < phi_cut {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        hi
+    } else {
+        len
+    };
     let phi1 = anchor.v().abs() * inv_l;
     let phi2 = (sigma * anchor.dv()).max(0.0) * inv_l;
     let tau_b = 1.0 / (phi1 + (0.5 * phi2).sqrt());
-    let mut f = |tau: f64| (-phi(tau)).exp();
+    let mut f = |tau: f64| relax.remaining(w_a, phi(tau));
     let mut j = Integral::default();
-    if !(tau_b.is_finite() && 4.0 * tau_b < len) {
-        j = adaptive(&mut f, 0.0, len, budget);
-    } else {
-        let (mut lo, mut width) = (0.0, 2.0 * tau_b);
-        loop {
-            let hi = (lo + width).min(len);
-            j += adaptive(&mut f, lo, hi, budget * (hi - lo) / len);
-            if hi >= len || phi(hi) > phi_cut {
-                break;
+    if w_a > 0.0 && end > 0.0 {
+        if !(tau_b.is_finite() && 4.0 * tau_b < end) {
+            j = adaptive(&mut f, 0.0, end, budget);
+        } else {
+            let (mut lo, mut width) = (0.0, 2.0 * tau_b);
+            loop {
+                let hi = (lo + width).min(end);
+                j += adaptive(&mut f, lo, hi, budget * (hi - lo) / len);
+                if hi >= end {
+                    break;
+                }
+                lo = hi;
+                width *= 2.0;
             }
-            lo = hi;
-            width *= 2.0;
         }
     }
     out.evals += j.evals;
-    out.integral_s += target * len + (s_a - target) * j.value;
+    out.integral_s += target * (len - j.value);
 }
 
 #[cfg(test)]
@@ -250,6 +277,7 @@ mod tests {
         let relax = Relaxation {
             length: 1.1e-7,
             stiffness: 1e8,
+            exponent: 1.0,
         };
         let span = 5e-4;
         let adv = advance(&f, relax, 0.2e-7, span, 1e-10);

@@ -65,14 +65,50 @@ fn elastic(k_t: f64, rate_s: Mat2, rate_v: Mat2) -> LawJacobian {
     }
 }
 
-/// A deformation that relaxes exponentially in the relative displacement:
-/// `ds/dt = v_r − |v_r|·s/length` with a constant `length`, and `F_F = stiffness·s`. Then for a
-/// given `v_r(t)` the rate is linear in `s` with the scalar decay `|v_r|/length`, and in 1-D,
-/// between sign changes `sigma` of `v_r`, `s = sigma·length + (s_0 − sigma·length)·exp(−|x_r − x_r0|/length)`.
+/// A 1-D deformation that relaxes in the relative displacement alone (Dahl): with
+/// `sigma = sgn(v_r)` and `w = 1 − sigma·s/length`, `dw = −|w|^exponent·sgn(w)·dX/length` where
+/// `X = |x_r − x_r0|`, so that between sign changes of `v_r` the deformation is a closed-form
+/// function of `X` ([`Relaxation::remaining`]), and `F_F = stiffness·s`. With `exponent = 1`
+/// the rate is linear in `s` and the relaxation exponential.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Relaxation {
     pub length: f64,
     pub stiffness: f64,
+    pub exponent: f64,
+}
+
+impl Relaxation {
+    /// `w` after a relative displacement of `phi` relaxation lengths, from `w0 ≥ 0`:
+    /// `w = w0·exp(−phi)` for `exponent = 1`, else `w^u = w0^u − u·phi` with `u = 1 − exponent`,
+    /// written as `w0·exp(ln(1 − r)/u)`, `r = u·phi/w0^u`, which tends to the exponential as
+    /// `u → 0` without loss. For `exponent < 1`, `w` reaches 0 at finite `phi` and stays there.
+    pub fn remaining(&self, w0: f64, phi: f64) -> f64 {
+        let u = 1.0 - self.exponent;
+        if u == 0.0 {
+            return w0 * (-phi).exp();
+        }
+        if w0 <= 0.0 {
+            return 0.0;
+        }
+        let r = u * phi * (-u * w0.ln()).exp();
+        if r >= 1.0 {
+            0.0
+        } else {
+            w0 * ((-r).ln_1p() / u).exp()
+        }
+    }
+
+    /// The `phi` at which `w` reaches 0 from `w0` (`exponent < 1` only; infinity otherwise).
+    pub fn exhaustion(&self, w0: f64) -> f64 {
+        let u = 1.0 - self.exponent;
+        if u > 0.0 && w0 > 0.0 {
+            (u * w0.ln()).exp() / u
+        } else if u > 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    }
 }
 
 /// A rate linear in `s` with a scalar decay: `ds/dt = v_r − decay·s = decay·(target − s)`, and a
@@ -105,7 +141,8 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn s_scale(&self) -> f64;
     /// Partial derivatives at `(s, v_r)`, with `ds = rate(s, v_r)`.
     fn jacobian<V: Vector>(&self, s: V, vr: V, ds: V) -> LawJacobian;
-    /// The law's exponential relaxation, where it has one (Dahl with `kappa = 1` and friction).
+    /// The law's relaxation in the relative displacement, where it has one (Dahl with friction;
+    /// longitudinal contacts only for `kappa ≠ 1`).
     fn relaxation(&self) -> Option<Relaxation> {
         None
     }
@@ -203,9 +240,10 @@ impl FrictionLaw for Dahl {
     }
 
     fn relaxation(&self) -> Option<Relaxation> {
-        (self.kappa == 1.0 && self.inv_s_ss > 0.0).then_some(Relaxation {
+        (self.inv_s_ss > 0.0).then_some(Relaxation {
             length: self.s_ss,
             stiffness: self.k_t,
+            exponent: self.kappa,
         })
     }
 
@@ -472,6 +510,42 @@ mod tests {
         };
         let vp = Planar { x: 0.0, y: 1e-3 };
         assert!((d.alpha(sp, vp) - d.alpha(0.9 * s_ss, 1e-3)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn relaxation_solves_the_dahl_rate_in_the_displacement() {
+        // dw/dX = −w^kappa/s_ss: the closed form against a fine Runge–Kutta in X.
+        let p = Params::default();
+        for kappa in [0.1, 0.5, 1.0 - 1e-12, 1.0, 2.0, 3.0] {
+            let relax = Relaxation {
+                length: 1.0,
+                stiffness: 1.0,
+                exponent: kappa,
+            };
+            let f = |w: f64| -w.max(0.0).powf(kappa);
+            for w0 in [0.0, 0.3, 1.0, 1.9] {
+                let (mut w, n, end) = (w0, 200_000, 3.0);
+                let h = end / n as f64;
+                for _ in 0..n {
+                    let k1 = f(w);
+                    let k2 = f(w + 0.5 * h * k1);
+                    let k3 = f(w + 0.5 * h * k2);
+                    let k4 = f(w + h * k3);
+                    w = (w + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)).max(0.0);
+                }
+                let closed = relax.remaining(w0, end);
+                assert!(
+                    (closed - w).abs() < 1e-9,
+                    "kappa {kappa}, w0 {w0}: {closed} vs {w}"
+                );
+                if kappa <= 0.5 && w0 > 0.0 {
+                    let at = relax.exhaustion(w0);
+                    assert!(relax.remaining(w0, 0.999_999 * at) > 0.0);
+                    assert_eq!(relax.remaining(w0, at * 1.000_001), 0.0);
+                }
+            }
+        }
+        let _ = p;
     }
 
     #[test]

@@ -96,18 +96,22 @@ pub fn integrate(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
     rec(f, a, b, tol, 0)
 }
 
-/// Exact solution of the longitudinal Dahl contact (kappa = 1) under velocity drive with the
-/// harmonic source (phase 0), starting from `s = 0` at `t = 0`.
+/// Exact solution of the longitudinal Dahl contact under velocity drive with the harmonic
+/// source (phase 0), starting from `s = 0` at `t = 0`.
 ///
 /// Dahl is rate-independent: between sign changes of `v_r = v_d − v_a·cos(omega·t)`, with
-/// `sigma = sgn(v_r)`, `w = 1 − sigma·s/s_ss` obeys `dw/dX = −sigma·w/s_ss` in the relative
-/// displacement `X(t) = v_d·t − u0·sin(omega·t)`, so `w(t) = w(t_k)·exp(−|X(t) − X(t_k)|/s_ss)`.
+/// `sigma = sgn(v_r)`, `w = 1 − sigma·s/s_ss` obeys `dw/dD = −w^kappa/s_ss` in the distance
+/// `D = |X(t) − X(t_k)|` slid since the sign change, `X(t) = v_d·t − u0·sin(omega·t)` the
+/// relative displacement. So `w(t) = w(t_k)·exp(−D/s_ss)` for `kappa = 1`, and
+/// `w^(1−kappa) = w(t_k)^(1−kappa) − (1 − kappa)·D/s_ss` otherwise (zero once that reaches
+/// zero, for `kappa < 1`).
 pub struct ExactDahl {
     pub v_d: f64,
     pub u0: f64,
     pub omega: f64,
     pub s_ss: f64,
     pub k_t: f64,
+    pub kappa: f64,
 }
 
 impl ExactDahl {
@@ -120,6 +124,7 @@ impl ExactDahl {
             omega: 2.0 * PI * p.f,
             s_ss: p.mu * p.f_n / p.k_t,
             k_t: p.k_t,
+            kappa: p.kappa,
         }
     }
 
@@ -150,21 +155,64 @@ impl ExactDahl {
         r
     }
 
+    /// `|X(t) − X(a)|` in product form: accurate to rounding of the difference itself, where
+    /// subtracting two values of X would lose it in the boundary layer.
+    fn dist(&self, a: f64, t: f64) -> f64 {
+        (self.v_d * (t - a)
+            - 2.0
+                * self.u0
+                * (0.5 * self.omega * (t + a)).cos()
+                * (0.5 * self.omega * (t - a)).sin())
+        .abs()
+    }
+
+    /// For `kappa < 1`, where in `(a, b)` the deformation from `s_a` reaches `±s_ss` (the
+    /// kink where `w` reaches 0), by bisection on the monotone distance slid.
+    fn exhausted(&self, a: f64, s_a: f64, b: f64) -> Option<f64> {
+        if self.kappa >= 1.0 {
+            return None;
+        }
+        let sigma = self.v_rel(0.5 * (a + b)).signum();
+        let w_a = 1.0 - sigma * s_a / self.s_ss;
+        let u = 1.0 - self.kappa;
+        let d_star = w_a.max(0.0).powf(u) * self.s_ss / u;
+        if self.dist(a, b) <= d_star {
+            return None;
+        }
+        let (mut lo, mut hi) = (a, b);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
+            if self.dist(a, mid) < d_star {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(hi)
+    }
+
     /// Deformation at `t` given the deformation `s_a` at `a`, with no sign change of `v_r`
     /// inside `(a, t)`.
     fn s_piece(&self, a: f64, s_a: f64, t: f64) -> f64 {
         let mid = 0.5 * (a + t);
         let sigma = self.v_rel(mid).signum();
         let w_a = 1.0 - sigma * s_a / self.s_ss;
-        // X(t) − X(a) in product form: accurate to rounding of the difference itself, where
-        // subtracting two values of X would lose it in the boundary layer.
-        let dx = (self.v_d * (t - a)
-            - 2.0
-                * self.u0
-                * (0.5 * self.omega * (t + a)).cos()
-                * (0.5 * self.omega * (t - a)).sin())
-        .abs();
-        sigma * self.s_ss * (1.0 - w_a * (-dx / self.s_ss).exp())
+        let dx = self.dist(a, t);
+        let w = if self.kappa == 1.0 {
+            w_a * (-dx / self.s_ss).exp()
+        } else {
+            let u = 1.0 - self.kappa;
+            let base = w_a.powf(u) - u * dx / self.s_ss;
+            if base <= 0.0 {
+                0.0
+            } else {
+                base.powf(1.0 / u)
+            }
+        };
+        sigma * self.s_ss * (1.0 - w)
     }
 
     /// Deformation at `t1` and `∫ s dt` over `[t0, t1]` (0 when `quad_tol` is 0), from
@@ -180,7 +228,14 @@ impl ExactDahl {
             let s_a = s;
             let f = |t: f64| self.s_piece(a, s_a, t);
             if quad_tol > 0.0 {
-                integral += integrate(&f, a, b, quad_tol);
+                // Split at the kink where w reaches 0 (kappa < 1), which the quadrature's
+                // estimate would not see.
+                integral += match self.exhausted(a, s_a, b) {
+                    Some(k) => {
+                        integrate(&f, a, k, 0.5 * quad_tol) + integrate(&f, k, b, 0.5 * quad_tol)
+                    }
+                    None => integrate(&f, a, b, quad_tol),
+                };
             }
             s = self.s_piece(a, s_a, b);
         }
