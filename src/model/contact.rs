@@ -709,8 +709,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     /// Advances the exponential integrator to `t_target`, steps ending on every sign change of
-    /// `v_rx` (a kink of `|v_r|` where `v_ry` vanishes too); returns the window's `∫F_Fx dt`.
-    fn advance_exp(&mut self, t_target: f64, h_max: f64) -> Result<f64, SimError> {
+    /// `v_rx` (a kink of `|v_r|` where `v_ry` vanishes too); returns `∫ a dt` (the decay) and
+    /// the window's `∫F_Fx dt`.
+    fn advance_exp(&mut self, t_target: f64, h_max: f64) -> Result<(f64, f64), SimError> {
         let t0 = self.radau.t;
         let forcing = self.dynamics.forcing_x(t0, self.config.input_support);
         let mut knots = [0.0f64; 8];
@@ -752,7 +753,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         st.rejected += ei.rejected;
         st.rhs_evals += ei.evals;
         st.events += n as u64;
-        Ok(integral)
+        Ok((ei.decay, integral))
     }
 
     /// Advances the closed-form path to `t_target`; returns `exp(−decay)`'s exponent and the
@@ -782,29 +783,44 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.dynamics.tracks.iter().all(|t| t.slope == 0.0)
     }
 
-    /// Skips `m` whole windows from the start of the current one in O(1), on the closed-form
-    /// path with held inputs and `kappa = 1`: the forcing is periodic in the window, so the map
-    /// of one window is affine, `s ↦ exp(−L)·s + beta`, and `m` of them compose in closed form. The first
-    /// window is integrated to learn `L` and `beta`; the windows skipped leave no mean.
-    fn skip_windows(&mut self, relax: Relaxation, m: u64) {
-        let s0 = self.radau.y[0];
-        let (decay, integral) = self.advance_exact(relax, self.window.end());
-        let s1 = self.radau.y[0];
+    /// True when the map of one window is affine in `s` with a scalar decay, `s ↦ exp(−L)·s +
+    /// beta`, for held inputs: the deformation's rate is linear in `s` and nothing else is
+    /// integrated (the closed form with `kappa = 1`, the exponential path).
+    fn windows_affine(&self) -> bool {
+        self.exact_path().is_some_and(|r| r.exponent == 1.0) || self.exp_path()
+    }
+
+    /// Skips `m` whole windows from the start of the current one in O(1), on a path where the
+    /// map of a window is affine ([`Contact::windows_affine`]) and the inputs held, so that the
+    /// forcing is periodic in the window: `m` maps compose in closed form. The first window is
+    /// integrated to learn `L` and `beta`; the windows skipped leave no mean.
+    fn skip_windows(&mut self, m: u64, h_max: f64) -> Result<(), SimError> {
+        let s0 = V::read(self.radau.y.as_slice());
+        let t_b = self.window.end();
+        let (decay, integral) = match self.exact_path() {
+            Some(relax) => self.advance_exact(relax, t_b),
+            None => self.advance_exp(t_b, h_max)?,
+        };
+        let s1 = V::read(self.radau.y.as_slice());
         let k = (m - 1) as f64;
-        let beta = s1 - (-decay).exp() * s0;
+        let beta = s1 - s0 * (-decay).exp();
         // Σ_{j<k} exp(−j·L) = (1 − exp(−k·L))/(1 − exp(−L)), k when L = 0.
         let sum = if decay > 0.0 {
             (-k * decay).exp_m1() / (-decay).exp_m1()
         } else {
             k
         };
-        let s = (-k * decay).exp() * s1 + beta * sum;
+        let s = s1 * (-k * decay).exp() + beta * sum;
         self.window.last = Some(integral / self.window.len);
         self.window.acc = 0.0;
         self.window.index += m;
         self.radau.t = self.window.start();
-        self.radau.y[0] = s.clamp(-relax.length, relax.length);
+        let mut y = self.radau.y;
+        s.write(y.as_mut_slice());
+        OdeSystem::<N>::project(&self.system(), &mut y);
+        self.radau.y = y;
         self.radau.stats.steps += 1;
+        Ok(())
     }
 
     /// Integrates to `t_target` (≤ the current window's end), accumulating `∫F_Fx dt`.
@@ -815,7 +831,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             return Ok(());
         }
         if self.exp_path() {
-            self.window.acc += self.advance_exp(t_target, h_max)?;
+            self.window.acc += self.advance_exp(t_target, h_max)?.1;
             return Ok(());
         }
         let dynamics = self.dynamics;
@@ -985,18 +1001,16 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let h_max = self.h_max();
         let result = (|| {
             while self.radau.t < t_end {
-                if let Some(relax) = self.exact_path() {
-                    // Many whole windows ahead with the forcing periodic: skip all but the last
-                    // (whose mean is the output) in O(1).
-                    let whole = ((t_end - self.radau.t) / self.window.len).floor();
-                    if relax.exponent == 1.0
-                        && self.radau.t == self.window.start()
-                        && self.inputs_held()
-                        && whole >= 3.0
-                    {
-                        self.skip_windows(relax, whole as u64 - 1);
-                        continue;
-                    }
+                // Many whole windows ahead with the forcing periodic: skip all but the last
+                // (whose mean is the output) in O(1).
+                let whole = ((t_end - self.radau.t) / self.window.len).floor();
+                if whole >= 3.0
+                    && self.radau.t == self.window.start()
+                    && self.inputs_held()
+                    && self.windows_affine()
+                {
+                    self.skip_windows(whole as u64 - 1, h_max)?;
+                    continue;
                 }
                 let mut t_b = self.window.end();
                 if (t_b - t_end).abs() <= TIME_SNAP * t_end.abs() {

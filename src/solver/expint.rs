@@ -264,6 +264,8 @@ fn convolve(p: &[f64; N], mubar: f64, z: f64, phi: &[f64; 7]) -> f64 {
 struct StepOut {
     s: [f64; 2],
     integral: f64,
+    /// `Λ = ∫ a dt` over the step.
+    decay: f64,
     /// Error estimate of `s` at the step's end, in units of the tolerance.
     err: f64,
     evals: u64,
@@ -278,6 +280,8 @@ pub struct ExpIntegrator {
     pub steps: u64,
     pub rejected: u64,
     pub evals: u64,
+    /// `∫ a dt` over the accepted steps: `exp(−decay)` is what is left of the initial `s`.
+    pub decay: f64,
 }
 
 impl ExpIntegrator {
@@ -288,6 +292,7 @@ impl ExpIntegrator {
             steps: 0,
             rejected: 0,
             evals: 0,
+            decay: 0.0,
         }
     }
 
@@ -334,6 +339,7 @@ impl ExpIntegrator {
             self.steps += 1;
             *s = out.s;
             integral += out.integral;
+            self.decay += out.decay;
             t = if last { t1 } else { t + h };
             // No growth right after a rejection: the estimate varies along the forcing.
             let fac = if rejected { fac.min(1.0) } else { fac };
@@ -385,6 +391,7 @@ fn step(
         return StepOut {
             s,
             integral,
+            decay: big,
             err: 0.0,
             evals,
         };
@@ -395,6 +402,7 @@ fn step(
         return StepOut {
             s: s0,
             integral: 0.0,
+            decay: 0.0,
             err: f64::INFINITY,
             evals,
         };
@@ -485,6 +493,7 @@ fn step(
     StepOut {
         s,
         integral,
+        decay: big,
         err,
         evals,
     }
