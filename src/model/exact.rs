@@ -136,6 +136,9 @@ impl Forcing {
     }
 }
 
+/// Tightest tolerance the quadrature is asked for: below it the sums' rounding dominates.
+pub const MIN_TOL: f64 = 1e-14;
+
 /// The result of [`advance`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Advance {
@@ -170,6 +173,7 @@ pub fn sign_changes(forcing: &Forcing, span: f64, mut at: impl FnMut(f64)) {
 /// Advances the deformation from `s0` over `[t0, t0 + span]` under `forcing`, with the
 /// integral of `s` to the relative tolerance `tol`.
 pub fn advance(forcing: &Forcing, relax: Relaxation, s0: f64, span: f64, tol: f64) -> Advance {
+    let tol = tol.max(MIN_TOL);
     let mut out = Advance {
         s: s0,
         ..Advance::default()
@@ -243,7 +247,8 @@ fn segment(forcing: &Forcing, relax: Relaxation, a: f64, b: f64, tol: f64, out: 
         if !(tau_b.is_finite() && 4.0 * tau_b < end) {
             j = adaptive(&mut f, 0.0, end, budget);
         } else {
-            let (mut lo, mut width) = (0.0, 2.0 * tau_b);
+            // A layer thinner than 2^-60 of the segment weighs nothing: start there at most.
+            let (mut lo, mut width) = (0.0, (2.0 * tau_b).max(end * 2f64.powi(-60)));
             loop {
                 let hi = (lo + width).min(end);
                 j += adaptive(&mut f, lo, hi, budget * (hi - lo) / len);

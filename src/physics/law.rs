@@ -10,6 +10,17 @@ use super::{Params, Vector};
 /// Smallest deformation scale used to normalise errors when the law has no friction at all.
 const S_FLOOR: f64 = 1e-30;
 
+/// `1/s_ss`, or 0 (no friction) where `s_ss` is so small that its inverse overflows: a
+/// Coulomb force below 1e-300 N acts as none, exactly, instead of turning every rate into NaN.
+fn inverse_length(s_ss: f64) -> f64 {
+    let inv = 1.0 / s_ss;
+    if s_ss > 0.0 && inv.is_finite() {
+        inv
+    } else {
+        0.0
+    }
+}
+
 /// A 2×2 matrix over the in-plane components; a longitudinal contact uses `[0][0]` only.
 pub type Mat2 = [[f64; 2]; 2];
 
@@ -170,7 +181,7 @@ impl FrictionLaw for Dahl {
         Dahl {
             k_t: p.k_t,
             s_ss,
-            inv_s_ss: if s_ss > 0.0 { 1.0 / s_ss } else { 0.0 },
+            inv_s_ss: inverse_length(s_ss),
             kappa: p.kappa,
         }
     }
@@ -309,7 +320,7 @@ impl FrictionLaw for Dupont {
             k_t: p.k_t,
             s_ss,
             s_ba: p.r_ba * s_ss,
-            inv_s_ss: if s_ss > 0.0 { 1.0 / s_ss } else { 0.0 },
+            inv_s_ss: inverse_length(s_ss),
         }
     }
 

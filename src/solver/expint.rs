@@ -92,6 +92,8 @@ const SPLIT: f64 = 2.0;
 /// Below this `Λ` per step the relaxation is negligible: `s` moves by `∫ a·(q − s0) dt`.
 const NEGLIGIBLE: f64 = 1e-10;
 const SAFE: f64 = 0.8;
+/// Tightest relative tolerance: the interpolation's own rounding is about 1e-15.
+pub const MIN_TOL: f64 = 1e-13;
 
 /// The system at one instant.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -285,10 +287,12 @@ pub struct ExpIntegrator {
 }
 
 impl ExpIntegrator {
+    /// An integrator for the relative tolerance `tol`, floored at [`MIN_TOL`] where the
+    /// interpolation's rounding dominates.
     pub fn new(tol: f64) -> Self {
         ExpIntegrator {
             h: 0.0,
-            tol,
+            tol: tol.max(MIN_TOL),
             steps: 0,
             rejected: 0,
             evals: 0,
