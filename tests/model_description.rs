@@ -376,8 +376,19 @@ fn each_scene_has_exactly_the_variables_spec_3_implies() {
         "F_mean",
         "reduction",
         "P_diss",
+        "F_Fx_step",
+        "F_Fy_step",
     ];
-    let outputs_long = ["F_Fx", "x", "v_x", "s_x", "F_mean", "reduction", "P_diss"];
+    let outputs_long = [
+        "F_Fx",
+        "x",
+        "v_x",
+        "s_x",
+        "F_mean",
+        "reduction",
+        "P_diss",
+        "F_Fx_step",
+    ];
     let cat = |a: &[&'static str], b: &[&'static str]| -> Vec<&'static str> {
         a.iter().chain(b).copied().collect()
     };

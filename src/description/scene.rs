@@ -920,11 +920,11 @@ v_d = 5e-4
     fn output_the_scene_cannot_have() {
         assert_eq!(
             err(&longitudinal("outputs = [\"F_Fx\", \"F_Fy\"]", "")),
-            "bad.toml:6: outputs = \"F_Fy\": not an output of a dahl longitudinal scene with velocity drive; valid: \"F_Fx\", \"x\", \"v_x\", \"s_x\", \"F_mean\", \"reduction\", \"P_diss\""
+            "bad.toml:6: outputs = \"F_Fy\": not an output of a dahl longitudinal scene with velocity drive; valid: \"F_Fx\", \"x\", \"v_x\", \"s_x\", \"F_mean\", \"reduction\", \"P_diss\", \"F_Fx_step\""
         );
         assert_eq!(
             err(&longitudinal("outputs = [\"F_Fx\", \"F_d\"]", "")),
-            "bad.toml:6: outputs = \"F_d\": a dahl longitudinal scene with velocity drive has no F_d (an input in force drive, an output in spring drive; in velocity drive F_Fx is the driving force); valid: \"F_Fx\", \"x\", \"v_x\", \"s_x\", \"F_mean\", \"reduction\", \"P_diss\""
+            "bad.toml:6: outputs = \"F_d\": a dahl longitudinal scene with velocity drive has no F_d (an input in force drive, an output in spring drive; in velocity drive F_Fx is the driving force); valid: \"F_Fx\", \"x\", \"v_x\", \"s_x\", \"F_mean\", \"reduction\", \"P_diss\", \"F_Fx_step\""
         );
         assert!(err(&longitudinal("outputs = [\"F_Fx\", \"F_Fx\"]", ""))
             .starts_with("bad.toml:6: outputs = \"F_Fx\": listed twice; valid: "));

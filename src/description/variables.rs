@@ -245,7 +245,7 @@ const MMS: Option<&str> = Some("mm/s");
 const DEG: Option<&str> = Some("deg");
 
 /// Every variable of every scene, in `ModelVariables` order.
-pub static VARIABLES: [Variable; 33] = [
+pub static VARIABLES: [Variable; 35] = [
     param(1, ParamId::M, "kg", None, "Body mass"),
     param(2, ParamId::FN, "N", None, "Normal force pressing the body on the support"),
     param(3, ParamId::Mu, "1", None, "Coulomb friction coefficient (F_C = mu*F_N)"),
@@ -279,6 +279,8 @@ pub static VARIABLES: [Variable; 33] = [
     output(209, OutputId::FMean, "N", None, "Mean of F_Fx over the last completed averaging window (exact integral)"),
     output(210, OutputId::Reduction, "1", None, "F_mean/F_C (1 when F_C = 0)"),
     output(211, OutputId::PDiss, "W", None, "Power dissipated in the contact: F_F.v_r less the rate of the elastic energy"),
+    output(212, OutputId::FFxStep, "N", None, "Mean of F_Fx over the last communication step (exact integral / step size): the impulse a host integrates without aliasing"),
+    output(213, OutputId::FFyStep, "N", None, "Mean of F_Fy over the last communication step (exact integral / step size)"),
 ];
 
 /// The row with this value reference.

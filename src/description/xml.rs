@@ -102,7 +102,7 @@ pub fn number(x: f64) -> String {
 ///   `h_t = 2·zeta_t·sqrt(m·k_t)·exp(−|v_r|²/v_e²)`; `v_r = v − v_s` depends on `v_d` (velocity
 ///   drive), the harmonic source (`u0`, `f`, `phase`, `angle`) and the input support velocities.
 ///   `P_diss = F_F·v_r` has the same dependencies.
-/// - `F_mean` = `F_Fx` at the start; `reduction = F_mean/F_C` adds `F_N`, `mu`.
+/// - `F_mean` and the step means = `F_F` at the start; `reduction = F_mean/F_C` adds `F_N`, `mu`.
 /// - Spring drive: `F_d = c_d·v_d`.
 pub fn initial_dependencies(v: &Variable, c: &Config) -> Vec<VarKind> {
     let out = match v.kind {
@@ -149,7 +149,12 @@ pub fn initial_dependencies(v: &Variable, c: &Config) -> Vec<VarKind> {
         d
     };
     match out {
-        OutputId::FFx | OutputId::FFy | OutputId::FMean | OutputId::PDiss => friction(),
+        OutputId::FFx
+        | OutputId::FFy
+        | OutputId::FMean
+        | OutputId::PDiss
+        | OutputId::FFxStep
+        | OutputId::FFyStep => friction(),
         OutputId::Reduction => {
             let mut d = friction();
             for p in [ParamId::FN, ParamId::Mu] {
@@ -271,7 +276,7 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
                 "canInterpolateInputs",
                 if interpolate { "true" } else { "false" },
             ),
-            ("maxOutputDerivativeOrder", "0"),
+            ("maxOutputDerivativeOrder", "1"),
             ("canRunAsynchronuously", "false"),
             ("canBeInstantiatedOnlyOncePerProcess", "false"),
             ("canNotUseMemoryManagementFunctions", "true"),

@@ -608,13 +608,23 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     c: fmi2Component,
-    _vr: *const fmi2ValueReference,
-    _nvr: usize,
-    _order: *const fmi2Integer,
-    _value: *mut fmi2Real,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *mut fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2GetRealOutputDerivatives", |i| {
-        i.get_real_output_derivatives()
+    const F: &str = "fmi2GetRealOutputDerivatives";
+    call(c, F, |inst| {
+        let Some(vrs) = array(vr, nvr) else {
+            return null(inst, F, "vr", nvr);
+        };
+        let Some(orders) = array(order, nvr) else {
+            return null(inst, F, "order", nvr);
+        };
+        let Some(values) = array_mut(value, nvr) else {
+            return null(inst, F, "value", nvr);
+        };
+        inst.get_real_output_derivatives(vrs, orders, values)
     })
 }
 

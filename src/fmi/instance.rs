@@ -128,6 +128,7 @@ const ANY: u32 = INSTANTIATED | INIT | STEP_COMPLETE | STEP_FAILED | TERMINATED 
 const MASK_GET: u32 = INIT | STEP_COMPLETE | STEP_FAILED | TERMINATED | ERROR;
 const MASK_SET: u32 = INSTANTIATED | INIT | STEP_COMPLETE;
 const MASK_STATUS: u32 = STEP_COMPLETE | STEP_FAILED | TERMINATED;
+const MASK_OUTPUT_DERIVATIVES: u32 = STEP_COMPLETE | STEP_FAILED | TERMINATED | ERROR;
 
 fn mask_names(mask: u32) -> String {
     FmiState::ALL
@@ -831,13 +832,65 @@ impl Instance {
         Status::Ok
     }
 
-    /// `fmi2GetRealOutputDerivatives`: not supported (`maxOutputDerivativeOrder` is 0).
-    pub fn get_real_output_derivatives(&mut self) -> Status {
+    /// `fmi2GetRealOutputDerivatives`: first derivatives (`maxOutputDerivativeOrder` = 1) of the
+    /// outputs that have an exact one (see `Simulator::output_derivative`); every value is
+    /// checked before any is written.
+    pub fn get_real_output_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &mut [f64],
+    ) -> Status {
         const F: &str = "fmi2GetRealOutputDerivatives";
-        self.fail(
-            F,
-            "not supported: this FMU provides no output derivatives (maxOutputDerivativeOrder = 0)",
-        )
+        if let Err(s) = self.allow(F, MASK_OUTPUT_DERIVATIVES) {
+            return s;
+        }
+        let config = self.scene.config;
+        let mut found = Vec::with_capacity(vrs.len());
+        for (&vr, &order) in vrs.iter().zip(orders) {
+            let v = match self.lookup(vr) {
+                Ok(v) => v,
+                Err(msg) => return self.fail(F, msg),
+            };
+            let name = v.name();
+            let id = match (v.kind, v.causality(&config)) {
+                (VarKind::Output(o), _) => o,
+                (VarKind::Input(InputId::FD), Causality::Output) => OutputId::FDrive,
+                (_, c) => return self.fail(
+                    F,
+                    format!(
+                        "{name} (vr {vr}) has causality {}: only outputs have output derivatives",
+                        c.as_str()
+                    ),
+                ),
+            };
+            if order != 1 {
+                return self.fail(
+                    F,
+                    format!("order = {order} for {name} (vr {vr}): only first derivatives (order 1) are provided (maxOutputDerivativeOrder = 1)"),
+                );
+            }
+            let Some(sim) = self.sim.as_ref() else {
+                return self.fail(
+                    F,
+                    "no simulation state: call fmi2ExitInitializationMode first",
+                );
+            };
+            match sim.output_derivative(id) {
+                Some(d) if d.is_finite() => found.push(d),
+                Some(d) => {
+                    return self.fail(F, format!("the derivative of {name} (vr {vr}) is {d}"))
+                }
+                None => {
+                    return self.fail(
+                        F,
+                        format!("{name} (vr {vr}) has no exact time derivative; derivatives are provided for x, y, v_x, v_y, s_x, s_y, and for F_Fx_step, F_Fy_step after the first fmi2DoStep"),
+                    )
+                }
+            }
+        }
+        values[..found.len()].copy_from_slice(&found);
+        Status::Ok
     }
 
     /// `fmi2GetDirectionalDerivative`: not supported.

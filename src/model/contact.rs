@@ -13,12 +13,12 @@ use nalgebra::{SMatrix, SVector};
 
 use super::exact::{self, Forcing};
 use super::simulator::{Ode, Path, SimError, Simulator, StepStats};
-use super::{Config, InputId, Inputs, Outputs};
+use super::{Config, InputId, Inputs, OutputId, Outputs};
 use crate::physics::{
     FrictionLaw, Harmonic, InputTrack, LawJacobian, ParamId, Params, Relaxation, Vector,
 };
 use crate::solver::expint::{ExpIntegrator, Relaxing, Sample};
-use crate::solver::{OdeSystem, Radau5, Step, Workspace, MAX_DIM, MAX_SWITCH};
+use crate::solver::{OdeSystem, Quad, Radau5, Step, Workspace, MAX_DIM, MAX_QUAD, MAX_SWITCH};
 
 /// Forces and motions the drive needs at one instant.
 #[derive(Clone, Copy, Debug)]
@@ -44,6 +44,9 @@ pub trait DriveKind<V: Vector>: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn drive_force(&self, body: &[f64], d: &DriveInputs) -> f64;
     /// Rates of the body states under the friction force `f_f` (the support pushes with `−f_f`).
     fn body_rate(&self, body: &[f64], f_f: V, d: &DriveInputs, out: &mut [f64]);
+    /// Body acceleration under the friction force `f_f`, with `a_d = dv_d/dt` (the input
+    /// derivative of `v_d`, zero when held).
+    fn acceleration(&self, body: &[f64], f_f: V, d: &DriveInputs, a_d: f64) -> V;
     /// Natural magnitudes of the body states (positions, then velocities).
     fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]);
     /// Fills the Jacobian's body rows, and the deformation rows' columns of the body velocity,
@@ -90,6 +93,9 @@ impl<V: Vector> DriveKind<V> for VelocityGuided {
     }
     #[inline(always)]
     fn body_rate(&self, _: &[f64], _: V, _: &DriveInputs, _: &mut [f64]) {}
+    fn acceleration(&self, _: &[f64], _: V, _: &DriveInputs, a_d: f64) -> V {
+        V::from_xy(a_d, 0.0)
+    }
     fn scale(&self, _: f64, _: f64, _: &mut [f64]) {}
     fn jacobian(&self, _: &LawJacobian, _: &mut Jac) {}
 }
@@ -119,6 +125,9 @@ impl<V: Vector> DriveKind<V> for VelocityFree {
     fn body_rate(&self, body: &[f64], f_f: V, _: &DriveInputs, out: &mut [f64]) {
         out[0] = body[1];
         out[1] = -f_f.y() * self.inv_m;
+    }
+    fn acceleration(&self, _: &[f64], f_f: V, _: &DriveInputs, a_d: f64) -> V {
+        V::from_xy(a_d, -f_f.y() * self.inv_m)
     }
     fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]) {
         out[0] = x_nom;
@@ -167,6 +176,9 @@ impl<V: Vector> DriveKind<V> for Force {
         let acc = (V::from_xy(d.f_d, 0.0) - f_f) * self.inv_m;
         acc.write(&mut out[V::DIM..]);
     }
+    fn acceleration(&self, _: &[f64], f_f: V, d: &DriveInputs, _: f64) -> V {
+        (V::from_xy(d.f_d, 0.0) - f_f) * self.inv_m
+    }
     fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]) {
         out[..V::DIM].fill(x_nom);
         out[V::DIM..].fill(v_nom);
@@ -213,6 +225,10 @@ impl<V: Vector> DriveKind<V> for Spring {
         let f_d = <Self as DriveKind<V>>::drive_force(self, body, d);
         let acc = (V::from_xy(f_d, 0.0) - f_f) * self.inv_m;
         acc.write(&mut out[V::DIM..]);
+    }
+    fn acceleration(&self, body: &[f64], f_f: V, d: &DriveInputs, _: f64) -> V {
+        let f_d = <Self as DriveKind<V>>::drive_force(self, body, d);
+        (V::from_xy(f_d, 0.0) - f_f) * self.inv_m
     }
     fn scale(&self, x_nom: f64, v_nom: f64, out: &mut [f64]) {
         out[..V::DIM].fill(x_nom);
@@ -342,7 +358,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Relaxing for Relaxation1<'_, V,
                 a: l.decay,
                 q: [l.target.x(), l.target.y()],
                 c: l.force_s,
-                d: l.force_0.x(),
+                d: [l.force_0.x(), l.force_0.y()],
             },
             None => Sample::default(),
         }
@@ -474,15 +490,17 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
     }
 
     #[inline(always)]
-    fn observe(&self, t: f64, y: &SVector<f64, N>) -> ([f64; MAX_SWITCH], f64) {
+    fn observe(&self, t: f64, y: &SVector<f64, N>) -> ([f64; MAX_SWITCH], Quad) {
         let e = self.eval(t, y.as_slice());
-        ([e.vr.x(), e.s.dot(e.vr)], e.f.x())
+        ([e.vr.x(), e.s.dot(e.vr)], [e.f.x(), e.f.y()])
     }
 
-    /// `F_Fx`, whose integral over each window is the mean friction force.
+    /// `F_Fx` and `F_Fy`: their integrals give the window's mean friction force and the
+    /// communication step's means.
     #[inline(always)]
-    fn quadrature(&self, t: f64, y: &SVector<f64, N>) -> f64 {
-        self.eval(t, y.as_slice()).f.x()
+    fn quadrature(&self, t: f64, y: &SVector<f64, N>) -> Quad {
+        let f = self.eval(t, y.as_slice()).f;
+        [f.x(), f.y()]
     }
 
     fn quadrature_scale(&self) -> f64 {
@@ -561,6 +579,56 @@ impl Window {
     }
 }
 
+/// The friction force over communication steps: `∫F_F dt` over the step in progress, and the
+/// means over the last one (the outputs `F_Fx_step`, `F_Fy_step`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct StepMean {
+    acc: Quad,
+    /// `∫F_F dt/h` over the last completed step (none before the first).
+    last: Option<Quad>,
+    /// Length of the last completed step.
+    h: f64,
+    /// `F_F` at the start of the last completed step.
+    f_start: Quad,
+}
+
+impl StepMean {
+    const NONE: StepMean = StepMean {
+        acc: [0.0; MAX_QUAD],
+        last: None,
+        h: 0.0,
+        f_start: [0.0; MAX_QUAD],
+    };
+}
+
+/// For `n` applications of the affine map `s ↦ e·s + beta` from `s_0`: `(c, d)` with
+/// `Σ_{j<n} s_j = c·s_0 + d`, by binary powering (O(log n) operations, no cancellation
+/// whatever `e` in `[0, 1]`).
+fn affine_sums<V: Vector>(e: f64, beta: V, n: u64) -> (f64, V) {
+    // (a, b, c, d) of `k` maps: `s_k = a·s_0 + b`, `Σ_{j<k} s_j = c·s_0 + d`; `then(x, y)` is
+    // `x`'s maps followed by `y`'s.
+    type Maps<V> = (f64, V, f64, V);
+    let then = |x: Maps<V>, y: Maps<V>| -> Maps<V> {
+        (
+            y.0 * x.0,
+            x.1 * y.0 + y.1,
+            x.2 + y.2 * x.0,
+            x.3 + x.1 * y.2 + y.3,
+        )
+    };
+    let mut result: Maps<V> = (1.0, V::default(), 0.0, V::default());
+    let mut power: Maps<V> = (e, beta, 1.0, V::default());
+    let mut n = n;
+    while n > 0 {
+        if n & 1 == 1 {
+            result = then(result, power);
+        }
+        power = then(power, power);
+        n >>= 1;
+    }
+    (result.2, result.3)
+}
+
 /// A contact with its integrator: implements [`Simulator`].
 #[derive(Clone, Debug)]
 pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
@@ -581,6 +649,7 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     /// The integrator's scratch matrices, kept across communication steps.
     work: Workspace,
     window: Window,
+    step: StepMean,
 }
 
 /// Builds the contact with state dimension `N` (checked against the types).
@@ -632,6 +701,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 acc: 0.0,
                 last: None,
             },
+            step: StepMean::NONE,
         };
         c.window.len = c.window_length();
         c.update_scale();
@@ -710,8 +780,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
 
     /// Advances the exponential integrator to `t_target`, steps ending on every sign change of
     /// `v_rx` (a kink of `|v_r|` where `v_ry` vanishes too); returns `∫ a dt` (the decay) and
-    /// the window's `∫F_Fx dt`.
-    fn advance_exp(&mut self, t_target: f64, h_max: f64) -> Result<(f64, f64), SimError> {
+    /// `∫F_F dt`.
+    fn advance_exp(&mut self, t_target: f64, h_max: f64) -> Result<(f64, Quad), SimError> {
         let t0 = self.radau.t;
         let forcing = self.dynamics.forcing_x(t0, self.config.input_support);
         let mut knots = [0.0f64; 8];
@@ -731,13 +801,15 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let mut s = [0.0; 2];
         s[..V::DIM].copy_from_slice(&self.radau.y.as_slice()[..V::DIM]);
         let s_scale = self.scale[0];
-        let mut integral = 0.0;
+        let mut integral = [0.0; MAX_QUAD];
         let mut a = t0;
         for &b in knots[..n].iter().chain(std::iter::once(&t_target)) {
             if b > a {
-                integral += ei
+                let i = ei
                     .integrate(&sys, a, b, &mut s, s_scale, self.force_scale, h_max)
                     .map_err(SimError::Solver)?;
+                integral[0] += i[0];
+                integral[1] += i[1];
                 a = b;
             }
         }
@@ -756,9 +828,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         Ok((ei.decay, integral))
     }
 
-    /// Advances the closed-form path to `t_target`; returns `exp(−decay)`'s exponent and the
-    /// window's `∫F_Fx dt` over the call.
-    fn advance_exact(&mut self, relax: Relaxation, t_target: f64) -> (f64, f64) {
+    /// Advances the closed-form path to `t_target`; returns `exp(−decay)`'s exponent and
+    /// `∫F_F dt` over the call (longitudinal: `F_Fy` = 0).
+    fn advance_exact(&mut self, relax: Relaxation, t_target: f64) -> (f64, Quad) {
         let t0 = self.radau.t;
         let forcing = self.dynamics.forcing_x(t0, self.config.input_support);
         let a = exact::advance(
@@ -775,7 +847,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         st.steps += a.segments;
         st.events += a.roots;
         st.rhs_evals += a.evals;
-        (a.decay, relax.stiffness * a.integral_s)
+        (a.decay, [relax.stiffness * a.integral_s, 0.0])
     }
 
     /// True when no input has a derivative set: the forcing is then periodic in the window.
@@ -797,10 +869,19 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     fn skip_windows(&mut self, m: u64, h_max: f64) -> Result<(), SimError> {
         let s0 = V::read(self.radau.y.as_slice());
         let t_b = self.window.end();
-        let (decay, integral) = match self.exact_path() {
-            Some(relax) => self.advance_exact(relax, t_b),
-            None => self.advance_exp(t_b, h_max)?,
-        };
+        // The window's integral is affine in its initial deformation too, `I(s) = I_p + G·s`
+        // with a scalar `G = ∫ ∂F/∂s·exp(−Λ(t)) dt`: a second run from `s0 + δ·e_x` gives `G`.
+        let before = (self.radau, self.exp_h);
+        let delta = self.scale[0];
+        let mut y = self.radau.y;
+        y[0] += delta;
+        self.radau.y = y;
+        let probe = self.advance_window(t_b, h_max)?.1;
+        let probe_stats = self.radau.stats;
+        (self.radau, self.exp_h) = before;
+        self.radau.stats = probe_stats;
+        let (decay, integral) = self.advance_window(t_b, h_max)?;
+        let g = (probe[0] - integral[0]) / delta;
         let s1 = V::read(self.radau.y.as_slice());
         let k = (m - 1) as f64;
         let beta = s1 - s0 * (-decay).exp();
@@ -811,7 +892,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             k
         };
         let s = s1 * (-k * decay).exp() + beta * sum;
-        self.window.last = Some(integral / self.window.len);
+        // ∫F_F dt over the k windows skipped: k·I_p + G·Σ_{j<k} s_j, s_j the j-th window's start.
+        let (c_sum, d_sum) = affine_sums((-decay).exp(), beta, m - 1);
+        let states = s1 * c_sum + d_sum;
+        let i_p = V::from_xy(integral[0], integral[1]) - s0 * g;
+        let skipped = i_p * k + states * g;
+        self.step.acc[0] += integral[0] + skipped.x();
+        self.step.acc[1] += integral[1] + skipped.y();
+        self.window.last = Some(integral[0] / self.window.len);
         self.window.acc = 0.0;
         self.window.index += m;
         self.radau.t = self.window.start();
@@ -823,15 +911,22 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         Ok(())
     }
 
-    /// Integrates to `t_target` (≤ the current window's end), accumulating `∫F_Fx dt`.
-    fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
-        if let Some(relax) = self.exact_path() {
-            let (_, integral) = self.advance_exact(relax, t_target);
-            self.window.acc += integral;
-            return Ok(());
+    /// Advances a fast path (closed form or exponential) to `t_target`: the decay and `∫F_F dt`.
+    fn advance_window(&mut self, t_target: f64, h_max: f64) -> Result<(f64, Quad), SimError> {
+        match self.exact_path() {
+            Some(relax) => Ok(self.advance_exact(relax, t_target)),
+            None => self.advance_exp(t_target, h_max),
         }
-        if self.exp_path() {
-            self.window.acc += self.advance_exp(t_target, h_max)?.1;
+    }
+
+    /// Integrates to `t_target` (≤ the current window's end), accumulating `∫F_F dt` in the
+    /// window and the communication step.
+    fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
+        if self.exact_path().is_some() || self.exp_path() {
+            let integral = self.advance_window(t_target, h_max)?.1;
+            self.window.acc += integral[0];
+            self.step.acc[0] += integral[0];
+            self.step.acc[1] += integral[1];
             return Ok(());
         }
         let dynamics = self.dynamics;
@@ -843,13 +938,16 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             self.force_scale,
             self.switch_scale,
         );
-        let mut acc = 0.0;
+        let mut acc = [0.0; MAX_QUAD];
         self.radau
             .integrate_with(&mut self.work, &sys, t_target, h_max, |step: &Step<N>| {
-                acc += step.quad
+                acc[0] += step.quad[0];
+                acc[1] += step.quad[1];
             })
             .map_err(SimError::Solver)?;
-        self.window.acc += acc;
+        self.window.acc += acc[0];
+        self.step.acc[0] += acc[0];
+        self.step.acc[1] += acc[1];
         Ok(())
     }
 
@@ -866,7 +964,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     /// Number of numbers in a snapshot.
-    const SNAPSHOT_LEN: usize = 1 + 18 + 12 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1;
+    const SNAPSHOT_LEN: usize = 1 + 18 + 12 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1 + 6;
 
     fn config_code(&self) -> f64 {
         let c = &self.config;
@@ -997,7 +1095,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             c if c > t0 => c,
             _ => t_end,
         };
-        let saved = (self.radau, self.window, self.exp_h);
+        let saved = (self.radau, self.window, self.exp_h, self.step);
+        let f_start = self.eval_now().f;
+        self.step.acc = [0.0; MAX_QUAD];
         let h_max = self.h_max();
         let result = (|| {
             while self.radau.t < t_end {
@@ -1030,9 +1130,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         })();
         if let Err(e) = result {
             // Leave the simulator as it was before the call.
-            (self.radau, self.window, self.exp_h) = saved;
+            (self.radau, self.window, self.exp_h, self.step) = saved;
             return Err(e);
         }
+        let h = self.radau.t - t0;
+        self.step.last = Some(self.step.acc.map(|a| a / h));
+        self.step.h = h;
+        self.step.f_start = [f_start.x(), f_start.y()];
         // Input derivatives are valid for one step: hold the inputs from here on.
         let t = self.radau.t;
         for (k, track) in self.dynamics.tracks.iter_mut().enumerate() {
@@ -1062,9 +1166,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             super::Drive::Velocity => e.f.x(),
             _ => self.dynamics.drive.drive_force(body, &e.drive),
         };
+        let step_mean = self.step.last.unwrap_or([e.f.x(), e.f.y()]);
         Outputs {
             f_fx: e.f.x(),
             f_fy: e.f.y(),
+            f_fx_step: step_mean[0],
+            f_fy_step: step_mean[1],
             x: pos.x(),
             y: pos.y(),
             v_x: e.v.x(),
@@ -1075,6 +1182,41 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             reduction: if f_c > 0.0 { f_mean / f_c } else { 1.0 },
             p_diss: self.dynamics.law.dissipation(e.s, e.vr, e.ds),
             f_d,
+        }
+    }
+
+    /// Exact first time derivatives: the body's position and velocity (its acceleration from the
+    /// forces on it, or the input derivative of an imposed `v_d`), the deformation (the law's
+    /// rate), and the step means as moving means over the last step's length `h`,
+    /// `d/dt (1/h)∫_{t−h}^t F dτ = (F(t) − F(t − h))/h`. None for the rest: window means and
+    /// forces whose rate would need the second derivative of the deformation.
+    fn output_derivative(&self, id: OutputId) -> Option<f64> {
+        let e = self.eval_now();
+        let body = &self.radau.y.as_slice()[V::DIM..];
+        let a_d = self.dynamics.tracks[1].slope;
+        match id {
+            OutputId::X => Some(e.v.x()),
+            OutputId::Y => Some(e.v.y()),
+            OutputId::Vx => Some(
+                self.dynamics
+                    .drive
+                    .acceleration(body, e.f, &e.drive, a_d)
+                    .x(),
+            ),
+            OutputId::Vy => Some(
+                self.dynamics
+                    .drive
+                    .acceleration(body, e.f, &e.drive, a_d)
+                    .y(),
+            ),
+            OutputId::Sx => Some(e.ds.x()),
+            OutputId::Sy => Some(e.ds.y()),
+            OutputId::FFxStep | OutputId::FFyStep if self.step.last.is_some() => {
+                let k = (id == OutputId::FFyStep) as usize;
+                let now = [e.f.x(), e.f.y()][k];
+                Some((now - self.step.f_start[k]) / self.step.h)
+            }
+            _ => None,
         }
     }
 
@@ -1123,6 +1265,16 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         ]);
         self.radau.save(&mut out);
         out.push(self.exp_h);
+        let st = &self.step;
+        let last = st.last.unwrap_or([0.0; MAX_QUAD]);
+        out.extend_from_slice(&[
+            st.last.is_some() as u8 as f64,
+            last[0],
+            last[1],
+            st.h,
+            st.f_start[0],
+            st.f_start[1],
+        ]);
         debug_assert_eq!(out.len(), Self::SNAPSHOT_LEN);
         out
     }
@@ -1152,6 +1304,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let x_kin_ref = rest[0];
         let (h_t_ref, h_theta_ref) = (rest[1], rest[2]);
         let w = &rest[3..9];
+        let (rest, step) = rest.split_at(rest.len() - 6);
         let (integrator, exp_h) = rest[9..].split_at(rest.len() - 10);
         let radau =
             Radau5::<N>::load(integrator).ok_or(SimError::BadSnapshot("integrator state"))?;
@@ -1172,6 +1325,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         c.radau = radau;
         c.radau_only = self.radau_only;
         c.exp_h = exp_h[0];
+        c.step = StepMean {
+            acc: [0.0; MAX_QUAD],
+            last: (step[0] != 0.0).then_some([step[1], step[2]]),
+            h: step[3],
+            f_start: [step[4], step[5]],
+        };
         c.update_scale();
         *self = c;
         Ok(())

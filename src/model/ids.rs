@@ -87,6 +87,10 @@ pub struct Outputs {
     pub reduction: f64,
     /// Power dissipated in the contact [W].
     pub p_diss: f64,
+    /// Mean of `F_Fx` and `F_Fy` over the last communication step, `∫F dt/h` [N]: what a host
+    /// integrates without aliasing (the instantaneous force before the first step).
+    pub f_fx_step: f64,
+    pub f_fy_step: f64,
     /// Driving force [N]: the input in force drive, the spring-damper force in spring drive, and
     /// the instantaneous force needed to impose `v_d` (= `F_Fx`) in velocity drive.
     pub f_d: f64,
@@ -108,10 +112,12 @@ pub enum OutputId {
     PDiss,
     /// `F_d` as an output: only in spring drive (in force drive `F_d` is the input).
     FDrive,
+    FFxStep,
+    FFyStep,
 }
 
 impl OutputId {
-    pub const ALL: [OutputId; 12] = [
+    pub const ALL: [OutputId; 14] = [
         OutputId::FFx,
         OutputId::FFy,
         OutputId::X,
@@ -124,6 +130,8 @@ impl OutputId {
         OutputId::Reduction,
         OutputId::PDiss,
         OutputId::FDrive,
+        OutputId::FFxStep,
+        OutputId::FFyStep,
     ];
 
     pub fn name(self) -> &'static str {
@@ -140,6 +148,8 @@ impl OutputId {
             OutputId::Reduction => "reduction",
             OutputId::PDiss => "P_diss",
             OutputId::FDrive => "F_d",
+            OutputId::FFxStep => "F_Fx_step",
+            OutputId::FFyStep => "F_Fy_step",
         }
     }
 
@@ -157,13 +167,17 @@ impl OutputId {
             OutputId::Reduction => o.reduction,
             OutputId::PDiss => o.p_diss,
             OutputId::FDrive => o.f_d,
+            OutputId::FFxStep => o.f_fx_step,
+            OutputId::FFyStep => o.f_fy_step,
         }
     }
 
     /// True when a scene with this configuration can have the output.
     pub fn present(self, c: &Config) -> bool {
         match self {
-            OutputId::FFy | OutputId::Y | OutputId::Vy | OutputId::Sy => c.planar(),
+            OutputId::FFy | OutputId::Y | OutputId::Vy | OutputId::Sy | OutputId::FFyStep => {
+                c.planar()
+            }
             OutputId::FDrive => c.drive == Drive::Spring,
             _ => true,
         }

@@ -1,7 +1,7 @@
 //! The object-safe face of a contact: what the FMU layer and the tests step.
 
 use super::contact::{boxed, Force, Spring, VelocityFree, VelocityGuided};
-use super::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, Outputs};
+use super::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId, Outputs};
 use crate::physics::{Dahl, Dupont, LuGre, ParamError, ParamId, Params, Planar};
 use crate::solver::SolverError;
 
@@ -94,6 +94,9 @@ pub trait Simulator: Send {
     /// Outputs at the current time.
     fn outputs(&self) -> Outputs;
     /// Integrator work since the simulator was built.
+    /// The exact first time derivative of an output at the current time, where the model has
+    /// one (see the implementation for which); `None` elsewhere.
+    fn output_derivative(&self, id: OutputId) -> Option<f64>;
     fn stats(&self) -> StepStats;
     /// The integrator this simulator steps with.
     fn path(&self) -> Path;

@@ -102,9 +102,9 @@ pub struct Sample {
     pub a: f64,
     /// Target `q` (components beyond the dimension are ignored).
     pub q: [f64; 2],
-    /// The observable is `c·s_x + d`.
+    /// The observable is the vector `c·s + d` (components beyond the dimension are ignored).
     pub c: f64,
-    pub d: f64,
+    pub d: [f64; 2],
 }
 
 /// A deformation of dimension 1 or 2 relaxing toward a target at a scalar rate.
@@ -265,7 +265,7 @@ fn convolve(p: &[f64; N], mubar: f64, z: f64, phi: &[f64; 7]) -> f64 {
 #[derive(Clone, Copy, Debug)]
 struct StepOut {
     s: [f64; 2],
-    integral: f64,
+    integral: [f64; 2],
     /// `Λ = ∫ a dt` over the step.
     decay: f64,
     /// Error estimate of `s` at the step's end, in units of the tolerance.
@@ -300,7 +300,7 @@ impl ExpIntegrator {
         }
     }
 
-    /// Integrates `s` from `t0` to `t1` (exactly), returning `∫ (c·s_x + d) dt`. `scale_s` is
+    /// Integrates `s` from `t0` to `t1` (exactly), returning `∫ (c·s + d) dt`. `scale_s` is
     /// the natural magnitude of `s` (absolute tolerance `tol·scale_s`), `scale_f` that of the
     /// observable, `h_max` the longest step.
     #[allow(clippy::too_many_arguments)]
@@ -313,9 +313,9 @@ impl ExpIntegrator {
         scale_s: f64,
         scale_f: f64,
         h_max: f64,
-    ) -> Result<f64, SolverError> {
+    ) -> Result<[f64; 2], SolverError> {
         let mut t = t0;
-        let mut integral = 0.0;
+        let mut integral = [0.0; 2];
         let rtol = self.tol;
         if self.h <= 0.0 {
             self.h = (t1 - t0).min(h_max);
@@ -342,7 +342,8 @@ impl ExpIntegrator {
             }
             self.steps += 1;
             *s = out.s;
-            integral += out.integral;
+            integral[0] += out.integral[0];
+            integral[1] += out.integral[1];
             self.decay += out.decay;
             t = if last { t1 } else { t + h };
             // No growth right after a rejection: the estimate varies along the forcing.
@@ -379,7 +380,10 @@ fn step(
     };
     let lam: [f64; N] = std::array::from_fn(|j| lambda_at(X[j]));
     let big = h * (0..N).map(|k| W[k] * a[k]).sum::<f64>();
-    let smooth_d = h * (0..N).map(|k| W[k] * samples[k].d).sum::<f64>();
+    let smooth_d: [f64; 2] =
+        std::array::from_fn(|i| h * (0..N).map(|k| W[k] * samples[k].d[i]).sum::<f64>());
+    let c: [f64; N] = std::array::from_fn(|j| samples[j].c);
+    let mean_c = h * (0..N).map(|k| W[k] * c[k]).sum::<f64>();
     let evals = N as u64;
 
     if big < NEGLIGIBLE {
@@ -391,7 +395,7 @@ fn step(
                     .map(|k| W[k] * a[k] * (samples[k].q[i] - s0[i]))
                     .sum::<f64>();
         }
-        let integral = h * (0..N).map(|k| W[k] * samples[k].c).sum::<f64>() * s0[0] + smooth_d;
+        let integral = std::array::from_fn(|i| mean_c * s0[i] + smooth_d[i]);
         return StepOut {
             s,
             integral,
@@ -405,19 +409,18 @@ fn step(
         // The interpolant of a went negative between nodes: the step is too long.
         return StepOut {
             s: s0,
-            integral: 0.0,
+            integral: [0.0; 2],
             decay: 0.0,
             err: f64::INFINITY,
             evals,
         };
     }
-    let c: [f64; N] = std::array::from_fn(|j| samples[j].c);
     let mut s = [0.0; 2];
     let mut err: f64 = 0.0;
-    let integral = if big <= SPLIT {
+    let mut integral = smooth_d;
+    if big <= SPLIT {
         // e^{−λ} varies by at most e² over the step: s(λ) as its power series in λ (from
         // ds/dλ = Q(λ) − s), at the end and at the nodes, and Gauss in time for the observable.
-        let mut sx = [0.0; SERIES];
         for i in 0..dim {
             let q: [f64; N] = std::array::from_fn(|j| samples[j].q[i]);
             let (p, terms) = fit(&mu, &q);
@@ -425,58 +428,54 @@ fn step(
             s[i] = horner_n(&series, big);
             let [e5, e4] = terms.map(|t| horner_n(&relax_series(&t, big, 0.0), big));
             err = err.max(error_of(e5, e4) / (rtol * (scale_s + s[i].abs())));
-            if i == 0 {
-                sx = series;
-            }
+            integral[i] += h
+                * (0..N)
+                    .map(|j| W[j] * c[j] * horner_n(&series, lam[j]))
+                    .sum::<f64>();
         }
-        h * (0..N)
-            .map(|j| W[j] * c[j] * horner_n(&sx, lam[j]))
-            .sum::<f64>()
-            + smooth_d
     } else {
         let phi_end = phis(big);
         let decay_end = (-big).exp();
-        let mut coef0 = [0.0; N];
+        let mut transient = [0.0; 2];
         for i in 0..dim {
             let q: [f64; N] = std::array::from_fn(|j| samples[j].q[i]);
             let (p, terms) = fit(&mu, &q);
             s[i] = decay_end * s0[i] + convolve(&p, 1.0, big, &phi_end);
             let [e5, e4] = terms.map(|t| convolve(&t, 1.0, big, &phi_end));
             err = err.max(error_of(e5, e4) / (rtol * (scale_s + s[i].abs())));
-            if i == 0 {
-                coef0 = p;
+            // s = P(μ) + e^{−λ}·(s0 − P(0)) with P = Σ_k (−1/Λ)^k Q^(k) the particular solution.
+            let mut pcoef = [0.0; N];
+            let mut deriv = p;
+            let mut factor = 1.0;
+            for _ in 0..N {
+                for m in 0..N {
+                    pcoef[m] += factor * deriv[m];
+                }
+                // deriv ← d/dμ deriv
+                for m in 0..N - 1 {
+                    deriv[m] = deriv[m + 1] * (m + 1) as f64;
+                }
+                deriv[N - 1] = 0.0;
+                factor *= -1.0 / big;
             }
+            integral[i] += h
+                * (0..N)
+                    .map(|j| W[j] * c[j] * horner(&pcoef, mu[j]))
+                    .sum::<f64>();
+            transient[i] = s0[i] - pcoef[0];
         }
-        // s = P(μ) + e^{−λ}·(s0 − P(0)) with P = Σ_k (−1/Λ)^k Q^(k) the particular solution.
-        let mut pcoef = [0.0; N];
-        let mut deriv = coef0;
-        let mut factor = 1.0;
-        for _ in 0..N {
-            for m in 0..N {
-                pcoef[m] += factor * deriv[m];
-            }
-            // deriv ← d/dμ deriv
-            for m in 0..N - 1 {
-                deriv[m] = deriv[m + 1] * (m + 1) as f64;
-            }
-            deriv[N - 1] = 0.0;
-            factor *= -1.0 / big;
-        }
-        let smooth = h
-            * (0..N)
-                .map(|j| W[j] * c[j] * horner(&pcoef, mu[j]))
-                .sum::<f64>();
-        let transient = s0[0] - pcoef[0];
+        // The decaying transient of every component shares `∫ c·e^{−λ} dt`.
+        let transient_max = transient[0].abs().max(transient[1].abs());
         let mut layer = 0.0;
         let c_max = c.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         // ∫ e^{−λ} dt ≤ min(h, 1/a(0)): skip the layer where it cannot matter.
         let a0 = alpha[0].max(a[0]).max(f64::MIN_POSITIVE);
         let layer_bound = h.min(1.0 / a0);
-        if transient.abs() * c_max * layer_bound > 1e-3 * rtol * scale_f * h {
+        if transient_max * c_max * layer_bound > 1e-3 * rtol * scale_f * h {
             // ∫ c(t)·e^{−λ(t)} dt on panels doubling from the relaxation time 1/a(0).
             let gamma: [f64; N] = std::array::from_fn(|m| (0..N).map(|k| VINV[m][k] * c[k]).sum());
             let mut f = |x: f64| horner(&gamma, x) * (-lambda_at(x)).exp();
-            let budget = 1e-3 * rtol * scale_f / transient.abs();
+            let budget = 1e-3 * rtol * scale_f / transient_max;
             let x_b = (1.0 / (h * a0)).clamp(1e-12, 1.0);
             let phi_cut = (1.0 / (1e-3 * rtol)).ln() + 3.0;
             let (mut lo, mut width) = (0.0, x_b);
@@ -492,8 +491,10 @@ fn step(
             }
             layer = h * j.value;
         }
-        smooth + transient * layer + smooth_d
-    };
+        for i in 0..dim {
+            integral[i] += transient[i] * layer;
+        }
+    }
     StepOut {
         s,
         integral,
@@ -552,7 +553,7 @@ mod tests {
                 a: self.k * (1.0 + 0.5 * t.sin()),
                 q: [(3.0 * t).cos(), 0.0],
                 c: 2.0,
-                d: t,
+                d: [t, 0.0],
             }
         }
     }
@@ -596,8 +597,8 @@ mod tests {
             if k > 1.0 {
                 let i_ref = 2.0 * (6.0f64).sin() / 3.0 + 2.0;
                 assert!(
-                    (integral - i_ref).abs() < 10.0 / k + 1e-8,
-                    "k {k}: {integral} vs {i_ref}"
+                    (integral[0] - i_ref).abs() < 10.0 / k + 1e-8,
+                    "k {k}: {integral:?} vs {i_ref}"
                 );
             }
             // Same work at 1e3 and 1e9.

@@ -16,5 +16,6 @@ pub mod quadrature;
 mod radau;
 
 pub use radau::{
-    OdeSystem, Radau5, SolverError, SolverStats, Step, Workspace, B, C, MAX_DIM, MAX_SWITCH,
+    OdeSystem, Quad, Radau5, SolverError, SolverStats, Step, Workspace, B, C, MAX_DIM, MAX_QUAD,
+    MAX_SWITCH,
 };

@@ -25,6 +25,10 @@ use super::lu::{DenseLu, FixedLu};
 
 /// Most switching functions a system may have.
 pub const MAX_SWITCH: usize = 2;
+/// Most integrands a system hands to the step's quadrature.
+pub const MAX_QUAD: usize = 2;
+/// The integrands of a quadrature, or their integrals over a step.
+pub type Quad = [f64; MAX_QUAD];
 
 /// An ODE `dy/dt = f(t, y)` of fixed dimension `N` (at most [`MAX_DIM`]).
 pub trait OdeSystem<const N: usize> {
@@ -57,7 +61,7 @@ pub trait OdeSystem<const N: usize> {
 
     /// The switching functions and the quadrature's integrand together, for systems that
     /// share work between them.
-    fn observe(&self, t: f64, y: &SVector<f64, N>) -> ([f64; MAX_SWITCH], f64) {
+    fn observe(&self, t: f64, y: &SVector<f64, N>) -> ([f64; MAX_SWITCH], Quad) {
         (self.switch(t, y), self.quadrature(t, y))
     }
 
@@ -69,13 +73,13 @@ pub trait OdeSystem<const N: usize> {
     ) -> (SVector<f64, N>, Option<SMatrix<f64, N, N>>) {
         (self.rhs(t, y), self.jacobian(t, y))
     }
-    /// A scalar `q(t, y)` whose integral over each step the integrator returns in
-    /// [`Step::quad`], with its error bounded like the state's.
-    fn quadrature(&self, _t: f64, _y: &SVector<f64, N>) -> f64 {
-        0.0
+    /// Up to [`MAX_QUAD`] integrands `q(t, y)` whose integrals over each step the integrator
+    /// returns in [`Step::quad`], with their errors bounded like the state's.
+    fn quadrature(&self, _t: f64, _y: &SVector<f64, N>) -> Quad {
+        [0.0; MAX_QUAD]
     }
-    /// Natural magnitude of `q`: the error of its integral over a step of length `h` is kept
-    /// below `rtol·scale·h`. Zero: no quadrature.
+    /// Natural magnitude of every `q`: the error of each integral over a step of length `h` is
+    /// kept below `rtol·scale·h`. Zero: no quadrature.
     fn quadrature_scale(&self) -> f64 {
         0.0
     }
@@ -125,7 +129,7 @@ pub struct Step<'a, const N: usize> {
     pub h: f64,
     pub stages: &'a [SVector<f64, N>; 3],
     /// `∫ q dt` over the step (see [`OdeSystem::quadrature`]).
-    pub quad: f64,
+    pub quad: Quad,
 }
 
 const SQ6: f64 = 2.449_489_742_783_178;
@@ -612,10 +616,10 @@ impl<const N: usize> Radau5<N> {
             let cont = [cont0, cont1, cont1 - acont3];
 
             // Switching functions and the quadrature's integrand at the stages.
-            let observed: [([f64; MAX_SWITCH], f64); 3] = if n_switch > 0 || q_scale > 0.0 {
+            let observed: [([f64; MAX_SWITCH], Quad); 3] = if n_switch > 0 || q_scale > 0.0 {
                 std::array::from_fn(|i| sys.observe(self.t + C[i] * h, &(self.y + z[i])))
             } else {
-                [([0.0; MAX_SWITCH], 0.0); 3]
+                [([0.0; MAX_SWITCH], [0.0; MAX_QUAD]); 3]
             };
 
             // Switching events.
@@ -666,14 +670,17 @@ impl<const N: usize> Radau5<N> {
                 err = rms(&est2, &scal).max(1e-10);
             }
             // The quadrature: collocation integral and its embedded error estimate.
-            let mut quad = 0.0;
+            let mut quad = [0.0; MAX_QUAD];
             if q_scale > 0.0 {
-                let q: [f64; 3] = std::array::from_fn(|i| observed[i].1);
-                let zq: [f64; 3] =
-                    std::array::from_fn(|i| h * (A[i][0] * q[0] + A[i][1] * q[1] + A[i][2] * q[2]));
-                quad = zq[2];
-                let est_q = (h / U1) * (q0 + (DD1 * zq[0] + DD2 * zq[1] + DD3 * zq[2]) / h);
-                err = err.max(est_q.abs() / (self.rtol * q_scale * h));
+                for k in 0..MAX_QUAD {
+                    let q: [f64; 3] = std::array::from_fn(|i| observed[i].1[k]);
+                    let zq: [f64; 3] = std::array::from_fn(|i| {
+                        h * (A[i][0] * q[0] + A[i][1] * q[1] + A[i][2] * q[2])
+                    });
+                    quad[k] = zq[2];
+                    let est_q = (h / U1) * (q0[k] + (DD1 * zq[0] + DD2 * zq[1] + DD3 * zq[2]) / h);
+                    err = err.max(est_q.abs() / (self.rtol * q_scale * h));
+                }
             }
             if !err.is_finite() {
                 err = 1e10;
@@ -759,7 +766,7 @@ impl<const N: usize> Radau5<N> {
         sys: &S,
         n_switch: usize,
         h: f64,
-        observed: &[([f64; MAX_SWITCH], f64); 3],
+        observed: &[([f64; MAX_SWITCH], Quad); 3],
         y_new: &SVector<f64, N>,
         cont: &[SVector<f64, N>; 3],
     ) -> Option<(f64, usize)> {
@@ -997,8 +1004,8 @@ mod tests {
         fn switch(&self, t: f64, _y: &SVector<f64, 1>) -> [f64; MAX_SWITCH] {
             [t - 0.3, 1.0]
         }
-        fn quadrature(&self, t: f64, _y: &SVector<f64, 1>) -> f64 {
-            (t - 0.3).abs()
+        fn quadrature(&self, t: f64, _y: &SVector<f64, 1>) -> Quad {
+            [(t - 0.3).abs(), 0.0]
         }
         fn quadrature_scale(&self) -> f64 {
             1.0
