@@ -135,6 +135,7 @@ fn main() {
             motion: Motion::Planar,
             drive: Drive::Force,
             input_support: true,
+            normal_input: false,
             ..base
         },
         p,

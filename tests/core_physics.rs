@@ -21,6 +21,7 @@ fn config(law: Law, motion: Motion, drive: Drive, lateral: Lateral) -> Config {
         lateral,
         harmonic: true,
         input_support: false,
+        normal_input: false,
     }
 }
 

@@ -288,3 +288,181 @@ fn output_derivatives_match_finite_differences() {
         assert_eq!(sim.output_derivative(OutputId::FMean), None, "{file}");
     }
 }
+
+/// The scene's contact with the normal force an input (`normal = "input"`).
+fn with_normal_input(mut sc: Scene) -> Scene {
+    sc.config.normal_input = true;
+    sc.inputs.f_n = sc.start.f_n;
+    sc
+}
+
+/// An input `F_N` held at the parameter's value is the parameter: every standard scene over 50
+/// steps of 1 ms (the velocity drives then leave their fast paths for Radau).
+#[test]
+fn normal_force_input_held_equals_the_parameter() {
+    let tol = 1e-9;
+    for file in FILES {
+        let sc = scene(file);
+        let f_c = sc.start.f_c();
+        let s_ss = f_c / sc.start.k_t;
+        let mut a = start(&sc, tol);
+        let mut b = start(&with_normal_input(sc.clone()), tol);
+        let mut worst: f64 = 0.0;
+        for k in 1..=50 {
+            a.step_to(k as f64 * 1e-3).unwrap();
+            b.step_to(k as f64 * 1e-3).unwrap();
+            let (oa, ob) = (a.outputs(), b.outputs());
+            for id in [
+                OutputId::FFx,
+                OutputId::FFy,
+                OutputId::FMean,
+                OutputId::FFxStep,
+            ] {
+                worst = worst.max((id.get(&oa) - id.get(&ob)).abs() / f_c);
+            }
+            worst = worst.max((oa.s_x - ob.s_x).abs() / s_ss);
+        }
+        eprintln!("{file}: F_N input held against the parameter: {worst:e}");
+        assert!(worst <= 20.0 * tol, "{file}: {worst:e}");
+    }
+}
+
+use vibrofric::model::{Config, Lateral, Law, Motion, OutputId};
+
+/// Steady sliding at `v` under a normal force falling linearly, `F_N = a + b·t`, given through
+/// input derivatives: `ds/dt = v·(1 − s/s_ss(t))` with `s_ss = mu·F_N/k_t` has the closed form
+/// `s = v·a/(b·(c + 1))·(r − r^(−c))`, `r = F_N(t)/a`, `c = v·k_t/(mu·b)`. (The relaxation lags
+/// the falling load: `s` ends 0.1 % above `s_ss`, as the law says.)
+#[test]
+fn normal_force_ramp_matches_the_exact_solution() {
+    let config = Config {
+        law: Law::Dahl,
+        motion: Motion::Longitudinal,
+        drive: Drive::Velocity,
+        lateral: Lateral::Guided,
+        harmonic: false,
+        input_support: true,
+        normal_input: true,
+    };
+    let p = vibrofric::physics::Params::default();
+    let (a, b, v) = (55.0, -500.0, 1e-3);
+    let c = v * p.k_t / (p.mu * b);
+    let exact = |t: f64| {
+        let r = (a + b * t) / a;
+        v * a / (b * (c + 1.0)) * (r - (-c * r.ln()).exp())
+    };
+    for tol in [1e-6, 1e-9] {
+        let mut sim = build(config, p, 0.0, tol).unwrap();
+        sim.set_input(InputId::VD, v).unwrap();
+        let mut worst: f64 = 0.0;
+        for k in 0..100 {
+            let t = k as f64 * 1e-3;
+            sim.set_input(InputId::FN, a + b * t).unwrap();
+            sim.set_input_derivative(InputId::FN, b).unwrap();
+            sim.step_to(t + 1e-3).unwrap();
+            let o = sim.outputs();
+            let s_ss = p.mu * (a + b * (t + 1e-3)) / p.k_t;
+            worst = worst.max((o.s_x - exact(t + 1e-3)).abs() / s_ss);
+        }
+        eprintln!("tol {tol:e}: s against the exact solution within {worst:e} s_ss");
+        assert!(worst <= 20.0 * tol, "tol {tol:e}: {worst:e}");
+    }
+}
+
+/// The body lifts off (the load ramps to 0 inside a step, then stays 0) and lands again: every
+/// step succeeds, every output is finite, `|s| ≤ s_ss(t)` where the law keeps it (Dahl and
+/// Dupont under a held or rising load), no friction and no deformation while off (the body then
+/// accelerates at exactly `F_d/m`), friction again after landing.
+#[test]
+fn lift_off_and_touch_down() {
+    for tol in [1e-6, 1e-8, 1e-10] {
+        lift_off_and_touch_down_at(tol);
+    }
+}
+
+fn lift_off_and_touch_down_at(tol: f64) {
+    for file in [
+        "contact.toml",
+        "contact-dupont.toml",
+        "contact-lugre.toml",
+        "drill-string-axial.toml",
+    ] {
+        let sc = with_normal_input(scene(file));
+        let p = sc.start;
+        let mut sim = start(&sc, tol);
+        let h = 1e-3;
+        let f_n0 = p.f_n;
+        // 0-10 ms: full load; 10-14.5 ms: down to 0 (reached inside the step to 15 ms);
+        // 15-25 ms: off; 25-35 ms: back up; 35-60 ms: full load.
+        let load = |t: f64| -> (f64, f64) {
+            if t < 0.010 {
+                (f_n0, 0.0)
+            } else if t < 0.015 {
+                let slope = -f_n0 / 0.0045;
+                ((f_n0 + slope * (t - 0.010)).max(0.0), slope)
+            } else if t < 0.025 {
+                (0.0, 0.0)
+            } else if t < 0.035 {
+                (f_n0 * (t - 0.025) / 0.010, f_n0 / 0.010)
+            } else {
+                (f_n0, 0.0)
+            }
+        };
+        let mut landed_force: f64 = 0.0;
+        for k in 0..60 {
+            let t = k as f64 * h;
+            let (f_n, slope) = load(t + 1e-12);
+            sim.set_input(InputId::FN, f_n).unwrap();
+            if slope != 0.0 {
+                sim.set_input_derivative(InputId::FN, slope).unwrap();
+            }
+            let before = sim.outputs();
+            sim.step_to(t + h)
+                .unwrap_or_else(|e| panic!("{file}: step to {}: {e}", t + h));
+            let o = sim.outputs();
+            for id in OutputId::ALL {
+                assert!(id.get(&o).is_finite(), "{file}: {} at {}", id.name(), t + h);
+            }
+            // The load the contact ended the step with (the ramp clamped at 0).
+            let f_n_end = (f_n + slope * h).max(0.0);
+            if sc.config.law != Law::LuGre && slope >= 0.0 {
+                let s_ss = p.mu * f_n_end / p.k_t;
+                let s = (o.s_x * o.s_x + o.s_y * o.s_y).sqrt();
+                // To the tolerance: with the load an input, the bound is the law's, not a
+                // projection's.
+                assert!(
+                    s <= s_ss * (1.0 + 10.0 * tol),
+                    "{file}: |s| {s} > s_ss {s_ss} at {}",
+                    t + h
+                );
+            }
+            if (0.015..0.025).contains(&t) {
+                assert_eq!(
+                    (o.f_fx, o.f_fy),
+                    (0.0, 0.0),
+                    "{file}: friction while off at {t}"
+                );
+                let s_ref = p.f_c() / p.k_t;
+                assert!(
+                    o.s_x.abs().max(o.s_y.abs()) <= 1e-15 * s_ref,
+                    "{file}: deformation ({}, {}) while off at {t}",
+                    o.s_x,
+                    o.s_y
+                );
+                let dv = o.v_x - before.v_x;
+                let free = sc.inputs.f_d * h / p.m;
+                assert!(
+                    (dv - free).abs() <= 1e-12 * free.abs().max(1e-12),
+                    "{file}: dv {dv} vs F_d·h/m {free}"
+                );
+            }
+            if t >= 0.05 {
+                landed_force = landed_force.max(o.f_fx.abs());
+            }
+        }
+        assert!(
+            landed_force > 0.1 * p.f_c(),
+            "{file}: no friction after landing"
+        );
+    }
+}

@@ -779,6 +779,7 @@ fn every_standard_scene_through_the_fmu_equals_the_core() {
                             InputId::VD => vr::V_D,
                             InputId::VSx => vr::V_SX,
                             InputId::VSy => vr::V_SY,
+                            InputId::FN => vr::F_N,
                         };
                         ok!(i, i.set_real(&[vr], &[value]));
                         sim.set_input(id, value).unwrap();

@@ -462,6 +462,23 @@ fn each_scene_has_exactly_the_variables_spec_3_implies() {
             &outputs_long,
         ),
     );
+    // The normal force an input: the same variables, F_N now an input (same value reference).
+    expect(
+        "drill-string-contact.toml",
+        &cat(
+            &[
+                "m", "F_N", "mu", "k_t", "F_S", "v_S", "zeta_t", "h_v", "v_e", "T_avg", "F_d",
+                "v_sx",
+            ],
+            &outputs_long,
+        ),
+    );
+    let p = parse(&xml::model_description(&scene("drill-string-contact.toml")));
+    let f_n = p.vars.iter().find(|v| v.name == "F_N").unwrap();
+    assert_eq!(
+        (f_n.causality.as_str(), f_n.variability.as_str(), f_n.start),
+        ("input", "continuous", Some(55.0))
+    );
     // Spring drive: k_d, c_d, v_d input, F_d output.
     expect(
         "rig-longitudinal.toml",

@@ -127,6 +127,7 @@ fn lugre_stick_slip_through_a_soft_spring_at_every_communication_step() {
         lateral: Lateral::Guided,
         harmonic: false,
         input_support: true,
+        normal_input: false,
     };
     let p = Params {
         k_d: 2e3,

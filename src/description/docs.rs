@@ -221,7 +221,7 @@ pub fn index_html(scene: &Scene) -> String {
             escape(v.name()),
             v.vr,
             causality.as_str(),
-            v.variability().as_str(),
+            v.variability(c).as_str(),
             escape(v.unit),
             display_unit_html(v),
             if causality == Causality::Output { "(calculated)".into() } else { start_html(scene, v) },

@@ -23,7 +23,7 @@ use crate::model::{param_present, Config, Drive, InputId, Inputs, Lateral, Law, 
 use crate::physics::{ParamId, Params};
 
 /// The top-level keys of a scene file, in the order the documentation lists them.
-pub const KEYS: [&str; 9] = [
+pub const KEYS: [&str; 10] = [
     "model_identifier",
     "description",
     "law",
@@ -31,6 +31,7 @@ pub const KEYS: [&str; 9] = [
     "drive",
     "lateral",
     "support",
+    "normal",
     "outputs",
     "start",
 ];
@@ -65,6 +66,7 @@ pub fn default_inputs() -> Inputs {
         v_d: 1e-3,
         v_sx: 0.0,
         v_sy: 0.0,
+        f_n: Params::default().f_n,
     }
 }
 
@@ -378,6 +380,7 @@ impl Scene {
         const DRIVES: [&str; 3] = ["force", "velocity", "spring"];
         const LATERALS: [&str; 2] = ["free", "guided"];
         const SUPPORTS: [&str; 2] = ["harmonic", "input"];
+        const NORMALS: [&str; 2] = ["parameter", "input"];
         let law = match get("law") {
             None => {
                 return Err(missing(
@@ -499,6 +502,19 @@ impl Scene {
             *flag = true;
         }
 
+        let normal_input = match get("normal") {
+            None => false,
+            Some((ks, v)) => {
+                choice(
+                    &ctx,
+                    "normal",
+                    &ks,
+                    &v,
+                    &NORMALS,
+                    "not a kind of normal force",
+                )? == 1
+            }
+        };
         let config = Config {
             law,
             motion,
@@ -506,6 +522,7 @@ impl Scene {
             lateral,
             harmonic,
             input_support,
+            normal_input,
         };
         let what = format!(
             "{} {} scene with {} drive",
@@ -636,6 +653,9 @@ impl Scene {
                 VarKind::Output(_) => unreachable!("outputs are not settable"),
             }
         }
+
+        // An input F_N starts at the value its variable states.
+        inputs.f_n = start.f_n;
 
         // description
         let description = match get("description") {
@@ -798,6 +818,7 @@ v_d = 5e-4
             s.config,
             Config {
                 input_support: false,
+                normal_input: false,
                 ..Config::default()
             }
         );
@@ -819,7 +840,7 @@ v_d = 5e-4
     fn unknown_key() {
         assert_eq!(
             err(&planar("colour = \"red\"", "")),
-            "bad.toml:6: colour = \"red\": unknown key; valid: model_identifier, description, law, motion, drive, lateral, support, outputs, start"
+            "bad.toml:6: colour = \"red\": unknown key; valid: model_identifier, description, law, motion, drive, lateral, support, normal, outputs, start"
         );
     }
 

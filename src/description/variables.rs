@@ -85,9 +85,11 @@ impl Variable {
         }
     }
 
-    /// `F_d` is the input of a force drive and the spring-damper force output of a spring drive.
+    /// `F_d` is the input of a force drive and the spring-damper force output of a spring drive;
+    /// `F_N` is a parameter, or an input in scenes with `normal = "input"`.
     pub fn causality(&self, c: &Config) -> Causality {
         match self.kind {
+            VarKind::Param(ParamId::FN) if c.normal_input => Causality::Input,
             VarKind::Param(_) => Causality::Parameter,
             VarKind::Input(InputId::FD) if c.drive == Drive::Spring => Causality::Output,
             VarKind::Input(_) => Causality::Input,
@@ -95,8 +97,9 @@ impl Variable {
         }
     }
 
-    pub fn variability(&self) -> Variability {
+    pub fn variability(&self, c: &Config) -> Variability {
         match self.kind {
+            VarKind::Param(ParamId::FN) if c.normal_input => Variability::Continuous,
             VarKind::Param(p) if p.tunable() => Variability::Tunable,
             VarKind::Param(_) => Variability::Fixed,
             _ => Variability::Continuous,
@@ -106,8 +109,8 @@ impl Variable {
     /// `initial` attribute; `None` for inputs (which have no `initial`, only a `start`).
     pub fn initial(&self, c: &Config) -> Option<Initial> {
         match (self.kind, self.causality(c)) {
-            (VarKind::Param(_), _) => Some(Initial::Exact),
             (_, Causality::Input) => None,
+            (VarKind::Param(_), _) => Some(Initial::Exact),
             _ => Some(Initial::Calculated),
         }
     }
@@ -189,6 +192,23 @@ impl Variable {
             OutputId::Vx if velocity_input => deps.push(InputId::VD),
             OutputId::FDrive => deps.push(InputId::VD),
             _ => {}
+        }
+        // A normal force input acts at once on the force (a lower load makes the contact slip
+        // back onto its envelope; LuGre's g), on the deformation, on the dissipation and on
+        // the reduction (through F_C).
+        if c.normal_input {
+            let direct = matches!(
+                out,
+                OutputId::FFx
+                    | OutputId::FFy
+                    | OutputId::Sx
+                    | OutputId::Sy
+                    | OutputId::PDiss
+                    | OutputId::Reduction
+            );
+            if direct {
+                deps.push(InputId::FN);
+            }
         }
         deps
     }
@@ -318,6 +338,7 @@ mod tests {
             lateral: crate::model::Lateral::Guided,
             harmonic: true,
             input_support: false,
+            normal_input: false,
         };
         let outs: Vec<OutputId> = OutputId::ALL.to_vec();
         let names: Vec<&str> = VARIABLES

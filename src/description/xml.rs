@@ -349,7 +349,7 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
             ("valueReference", &vr),
             ("description", v.description),
             ("causality", v.causality(c).as_str()),
-            ("variability", v.variability().as_str()),
+            ("variability", v.variability(c).as_str()),
         ];
         let initial = v.initial(c);
         if let Some(init) = initial {
@@ -386,7 +386,11 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
         let kinds: Vec<VarKind> = v
             .input_dependencies(c)
             .into_iter()
-            .map(VarKind::Input)
+            .map(|i| match i {
+                // The input F_N is the parameter F_N's variable.
+                InputId::FN => VarKind::Param(ParamId::FN),
+                i => VarKind::Input(i),
+            })
             .collect();
         let deps = joined(&indices(&vars, &kinds));
         let index = index.to_string();

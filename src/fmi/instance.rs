@@ -197,7 +197,7 @@ struct Staged {
     /// Input values as last set (staged before the simulator exists).
     inputs: Inputs,
     /// First derivatives of inputs set before the simulator exists (applied when it is built).
-    derivs: [Option<f64>; 4],
+    derivs: [Option<f64>; InputId::ALL.len()],
     start_time: f64,
     /// Tolerance of `fmi2SetupExperiment`, when it defined one.
     tolerance: Option<f64>,
@@ -210,7 +210,7 @@ impl Staged {
             state: FmiState::Instantiated,
             params: scene.start,
             inputs: scene.inputs,
-            derivs: [None; 4],
+            derivs: [None; InputId::ALL.len()],
             start_time: xml::DEFAULT_EXPERIMENT.0,
             tolerance: None,
             stop_time: None,
@@ -554,7 +554,7 @@ impl Instance {
             Ok(sim) => {
                 self.sim = Some(sim);
                 self.provisional = None;
-                self.st.derivs = [None; 4];
+                self.st.derivs = [None; InputId::ALL.len()];
                 self.st.state = FmiState::StepComplete;
                 self.event(|| {
                     format!(
@@ -672,6 +672,7 @@ impl Instance {
         };
         for (v, out) in vars.iter().zip(values.iter_mut()) {
             *out = match v.kind {
+                VarKind::Param(ParamId::FN) if self.scene.config.normal_input => self.st.inputs.f_n,
                 VarKind::Param(p) => p.get(&self.st.params),
                 VarKind::Input(i) if v.causality(&self.scene.config) == Causality::Input => {
                     i.get(&self.st.inputs)
@@ -705,8 +706,17 @@ impl Instance {
                         format!("{name} (vr {vr}) has causality output: it is computed by the FMU and cannot be set"),
                     )
                 }
+                (VarKind::Param(ParamId::FN), Causality::Input) => {
+                    if !(value.is_finite() && value >= 0.0) {
+                        return self.fail(
+                            F,
+                            format!("F_N = {value}: must be finite and >= 0 (vr {vr}; a contact cannot pull, 0: the body has lifted off)"),
+                        );
+                    }
+                    plan.push(Assign::Input(InputId::FN, value));
+                }
                 (VarKind::Param(p), _) => {
-                    if v.variability() == Variability::Fixed && state == FmiState::StepComplete {
+                    if v.variability(&config) == Variability::Fixed && state == FmiState::StepComplete {
                         return self.fail(
                             F,
                             format!(
@@ -783,6 +793,7 @@ impl Instance {
             let name = v.name();
             let id = match (v.kind, v.causality(&config)) {
                 (VarKind::Input(i), Causality::Input) => i,
+                (VarKind::Param(ParamId::FN), Causality::Input) => InputId::FN,
                 (_, c) => {
                     return self.fail(
                         F,
@@ -856,13 +867,15 @@ impl Instance {
             let id = match (v.kind, v.causality(&config)) {
                 (VarKind::Output(o), _) => o,
                 (VarKind::Input(InputId::FD), Causality::Output) => OutputId::FDrive,
-                (_, c) => return self.fail(
-                    F,
-                    format!(
+                (_, c) => {
+                    return self.fail(
+                        F,
+                        format!(
                         "{name} (vr {vr}) has causality {}: only outputs have output derivatives",
                         c.as_str()
                     ),
-                ),
+                    )
+                }
             };
             if order != 1 {
                 return self.fail(
@@ -1155,7 +1168,7 @@ impl Instance {
 // ---- serialisation -------------------------------------------------------------------------
 
 const MAGIC: &[u8; 16] = b"vibrofric-state\0";
-const FORMAT_VERSION: u32 = 1;
+const FORMAT_VERSION: u32 = 2;
 
 /// FNV-1a, 64 bit: detects a corrupted or truncated byte string.
 fn checksum(b: &[u8]) -> u64 {
@@ -1290,7 +1303,7 @@ pub fn deserialize(bytes: &[u8]) -> Result<FmuState, String> {
         }
         *id.slot(&mut inputs) = x;
     }
-    let mut derivs = [None; 4];
+    let mut derivs = [None; InputId::ALL.len()];
     for d in derivs.iter_mut() {
         *d = r.opt()?;
     }

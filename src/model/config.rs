@@ -47,6 +47,8 @@ pub struct Config {
     pub harmonic: bool,
     /// Support velocities `v_sx`, `v_sy` set by the importer.
     pub input_support: bool,
+    /// The normal force `F_N` is a continuous input (else a tunable parameter).
+    pub normal_input: bool,
 }
 
 impl Default for Config {
@@ -59,6 +61,7 @@ impl Default for Config {
             lateral: Lateral::Guided,
             harmonic: true,
             input_support: true,
+            normal_input: false,
         }
     }
 }

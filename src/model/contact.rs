@@ -243,6 +243,37 @@ impl<V: Vector> DriveKind<V> for Spring {
     }
 }
 
+/// The normal force below which the body has lifted off: the integrator's relative tolerance
+/// of the reference load (1 N without one). The friction the contact could still carry is then
+/// within the tolerance of none, and the laws stay well-conditioned down to it (a load that
+/// tends to 0 makes the relaxation rate `|v_r|/s_ss` grow without bound).
+fn lift_off(reference: &Params, rtol: f64) -> f64 {
+    rtol * if reference.f_n > 0.0 {
+        reference.f_n
+    } else {
+        1.0
+    }
+}
+
+/// The parameters at the normal force `f_n`, from those at the reference load: `F_N` replaced,
+/// LuGre's static force `F_S` and contact damping `zeta_t` scaled with it, so that every
+/// friction force of the contact is proportional to the load (a static coefficient, and damping
+/// by the asperities in contact). `F_C = mu·F_N` and everything the laws derive from it
+/// (`s_ss`, LuGre's `g`) follow. Without the scaling of the damping, LuGre's `h_t·ds/dt` would
+/// grow without bound against `k_t·s` as the load, and with it `g`, tends to 0.
+fn loaded(reference: &Params, f_n: f64) -> Params {
+    let mut p = *reference;
+    if reference.f_n > 0.0 {
+        let ratio = f_n / reference.f_n;
+        p.f_s = reference.f_s * ratio;
+        p.zeta_t = reference.zeta_t * ratio;
+    } else {
+        p.f_s = reference.mu * f_n; // no reference load: no Stribeck peak, F_S = F_C
+    }
+    p.f_n = f_n;
+    p
+}
+
 /// The right-hand side: everything the integrator needs, nothing it changes.
 #[derive(Clone, Copy, Debug)]
 pub struct Dynamics<V: Vector, L: FrictionLaw, D: DriveKind<V>> {
@@ -250,7 +281,16 @@ pub struct Dynamics<V: Vector, L: FrictionLaw, D: DriveKind<V>> {
     drive: D,
     harmonic: Option<Harmonic>,
     /// Input tracks, indexed like [`InputId::ALL`].
-    tracks: [InputTrack; 4],
+    tracks: [InputTrack; 5],
+    /// With the normal force an input: the parameters at the reference load `F_N` (the input's
+    /// start value), from which the law at `F_N(t)` is made.
+    load: Option<Params>,
+    /// With the normal force an input: the load below which the body has lifted off.
+    lift_off: f64,
+    /// The body has lifted off: no load until the input rises above [`Dynamics::lift_off`]
+    /// again. Changes only between integrator segments (at the crossing instants and when the
+    /// input is set), so that the law is smooth inside each.
+    lifted: bool,
     /// `x_kin` at the reference time of the `v_d` track.
     x_kin_ref: f64,
     f_c: f64,
@@ -269,6 +309,55 @@ struct Eval<V> {
 }
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
+    /// The normal force at `t` where it is an input: the track, or 0 while lifted off.
+    #[inline(always)]
+    fn load_at(&self, t: f64) -> f64 {
+        if self.lifted {
+            0.0
+        } else {
+            self.tracks[4].at(t).max(0.0)
+        }
+    }
+
+    /// Whether a body with the load input at `t` is off the support: at most the lift-off
+    /// load, and not rising.
+    fn off_at(&self, t: f64) -> bool {
+        let track = &self.tracks[4];
+        let f_n = track.at(t);
+        f_n < self.lift_off || (f_n == self.lift_off && track.slope <= 0.0)
+    }
+
+    /// The law at time `t`: with the normal force an input, made for `F_N(t)` with the static
+    /// force `F_S` scaled with the load; else the law of the parameters.
+    #[inline(always)]
+    fn law_at(&self, t: f64) -> L {
+        match &self.load {
+            None => self.law,
+            Some(reference) => L::new(&loaded(reference, self.load_at(t))),
+        }
+    }
+
+    /// `F_C` at time `t`.
+    fn f_c_at(&self, t: f64) -> f64 {
+        match &self.load {
+            None => self.f_c,
+            Some(reference) => loaded(reference, self.load_at(t)).f_c(),
+        }
+    }
+
+    /// The first time in `(t0, t1)` at which an extrapolated normal force input crosses the
+    /// lift-off load, down while on or up while off: a kink of the law the integrator steps
+    /// onto.
+    fn load_event(&self, t0: f64, t1: f64) -> Option<f64> {
+        self.load.as_ref()?;
+        let track = &self.tracks[4];
+        if track.slope == 0.0 || (track.slope < 0.0) == self.lifted {
+            return None;
+        }
+        let t = track.t_ref + (self.lift_off - track.value) / track.slope;
+        (t > t0 && t < t1 && t - t0 > 1e-15 * t0.abs().max(t1 - t0)).then_some(t)
+    }
+
     #[inline(always)]
     fn drive_inputs(&self, t: f64) -> DriveInputs {
         let vd = &self.tracks[1];
@@ -323,8 +412,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
         let drive = self.drive_inputs(t);
         let v = self.drive.velocity(body, &drive);
         let vr = v - vs;
-        let ds = self.law.rate(s, vr);
-        let f = self.law.force(s, vr, ds);
+        let law = self.law_at(t);
+        let ds = law.rate(s, vr);
+        let f = law.force(s, vr, ds);
         Eval {
             s,
             v,
@@ -431,8 +521,8 @@ impl<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> System<'a, V, L, D> {
 
     /// `∂(dy/dt)/∂y` from an evaluation.
     #[inline(always)]
-    fn jacobian_at<const N: usize>(&self, e: &Eval<V>) -> SMatrix<f64, N, N> {
-        let lj = self.dynamics.law.jacobian(e.s, e.vr, e.ds);
+    fn jacobian_at<const N: usize>(&self, t: f64, e: &Eval<V>) -> SMatrix<f64, N, N> {
+        let lj = self.dynamics.law_at(t).jacobian(e.s, e.vr, e.ds);
         let mut jac: Jac = [[0.0; MAX_DIM]; MAX_DIM];
         for i in 0..V::DIM {
             for j in 0..V::DIM {
@@ -475,7 +565,7 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
 
     /// In closed form from the law's partial derivatives and the drive's structure.
     fn jacobian(&self, t: f64, y: &SVector<f64, N>) -> Option<SMatrix<f64, N, N>> {
-        Some(self.jacobian_at(&self.eval(t, y.as_slice())))
+        Some(self.jacobian_at(t, &self.eval(t, y.as_slice())))
     }
 
     /// One evaluation serves both.
@@ -486,7 +576,7 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
         y: &SVector<f64, N>,
     ) -> (SVector<f64, N>, Option<SMatrix<f64, N, N>>) {
         let e = self.eval(t, y.as_slice());
-        (self.rhs_at(&e, y.as_slice()), Some(self.jacobian_at(&e)))
+        (self.rhs_at(&e, y.as_slice()), Some(self.jacobian_at(t, &e)))
     }
 
     #[inline(always)]
@@ -511,8 +601,15 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
         self.switch_scale
     }
 
-    fn project(&self, y: &mut SVector<f64, N>) {
-        if let Some(bound) = self.dynamics.law.bound() {
+    /// `|s| ≤ s_ss` where the law keeps it invariant (a constant load). Under a varying normal
+    /// force the laws keep no such bound (a falling `s_ss` outruns the relaxation); the
+    /// deformation follows the law, except that a contact without load (lifted off) has none.
+    fn project(&self, t: f64, y: &mut SVector<f64, N>) {
+        let bound = match self.dynamics.load {
+            None => self.dynamics.law.bound(),
+            Some(_) => (self.dynamics.law_at(t).envelope() == 0.0).then_some(0.0),
+        };
+        if let Some(bound) = bound {
             let s = V::read(y.as_slice());
             let n = s.norm();
             if n > bound {
@@ -674,11 +771,18 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             harmonic: config
                 .harmonic
                 .then(|| Harmonic::new(params.u0, params.f, params.angle, params.phase, t_start)),
-            tracks: [InputTrack {
+            tracks: std::array::from_fn(|k| InputTrack {
                 t_ref: t_start,
-                value: 0.0,
+                value: if InputId::ALL[k] == InputId::FN {
+                    params.f_n
+                } else {
+                    0.0
+                },
                 slope: 0.0,
-            }; 4],
+            }),
+            load: config.normal_input.then_some(params),
+            lift_off: lift_off(&params, tolerance),
+            lifted: false,
             x_kin_ref: 0.0,
             f_c: params.f_c(),
             _v: std::marker::PhantomData,
@@ -705,7 +809,22 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         };
         c.window.len = c.window_length();
         c.update_scale();
+        c.update_lifted();
         c
+    }
+
+    /// Decides whether the body is off the support from the load input now; a body that lifts
+    /// off leaves no deformation.
+    fn update_lifted(&mut self) {
+        if self.dynamics.load.is_none() {
+            return;
+        }
+        self.dynamics.lifted = self.dynamics.off_at(self.radau.t);
+        if self.dynamics.lifted {
+            let mut y = self.radau.y;
+            y.as_mut_slice()[..V::DIM].fill(0.0);
+            self.radau.y = y;
+        }
     }
 
     fn window_length(&self) -> f64 {
@@ -761,7 +880,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     /// The closed-form path's relaxation, where this contact takes it: a longitudinal velocity
     /// drive (no body state) with a law that relaxes in the relative displacement (Dahl).
     fn exact_path(&self) -> Option<Relaxation> {
-        if V::DIM == 1 && D::N_BODY == 0 && !self.radau_only {
+        if V::DIM == 1 && D::N_BODY == 0 && !self.radau_only && self.dynamics.load.is_none() {
             self.dynamics.law.relaxation()
         } else {
             None
@@ -774,6 +893,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     fn exp_path(&self) -> bool {
         D::N_BODY == 0
             && !self.radau_only
+            && self.dynamics.load.is_none()
             && self.exact_path().is_none()
             && self.dynamics.law.linear(V::from_xy(1.0, 0.0)).is_some()
     }
@@ -815,7 +935,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         }
         let mut y = self.radau.y;
         y.as_mut_slice()[..V::DIM].copy_from_slice(&s[..V::DIM]);
-        OdeSystem::<N>::project(&self.system(), &mut y);
+        OdeSystem::<N>::project(&self.system(), t_target, &mut y);
         self.radau.y = y;
         self.radau.t = t_target;
         self.radau.restart();
@@ -905,7 +1025,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.radau.t = self.window.start();
         let mut y = self.radau.y;
         s.write(y.as_mut_slice());
-        OdeSystem::<N>::project(&self.system(), &mut y);
+        OdeSystem::<N>::project(&self.system(), self.radau.t, &mut y);
         self.radau.y = y;
         self.radau.stats.steps += 1;
         Ok(())
@@ -964,7 +1084,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     /// Number of numbers in a snapshot.
-    const SNAPSHOT_LEN: usize = 1 + 18 + 12 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1 + 6;
+    const SNAPSHOT_LEN: usize = 1 + 18 + 15 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1 + 6 + 1;
 
     fn config_code(&self) -> f64 {
         let c = &self.config;
@@ -974,6 +1094,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             + 32.0 * (c.lateral as u8 as f64)
             + 64.0 * (c.harmonic as u8 as f64)
             + 128.0 * (c.input_support as u8 as f64)
+            + 256.0 * (c.normal_input as u8 as f64)
     }
 }
 
@@ -990,6 +1111,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         if !id.tunable() {
             return Err(SimError::NotTunable(id.name()));
         }
+        if id == ParamId::FN && self.config.normal_input {
+            return Err(SimError::NoSuchParam(id.name()));
+        }
         let mut params = self.params;
         id.set(&mut params, value)?;
         if params == self.params {
@@ -998,6 +1122,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let t = self.radau.t;
         self.params = params;
         self.dynamics.law = L::new(&params);
+        if let Some(reference) = &mut self.dynamics.load {
+            *reference = params;
+        }
         self.dynamics.drive = D::new(&params);
         self.dynamics.f_c = params.f_c();
         if let Some(h) = &mut self.dynamics.harmonic {
@@ -1020,7 +1147,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         self.window.len = self.window_length();
         self.update_scale();
         let mut y = self.radau.y;
-        OdeSystem::<N>::project(&self.system(), &mut y);
+        OdeSystem::<N>::project(&self.system(), t, &mut y);
         self.radau.set_state(y);
         Ok(())
     }
@@ -1041,6 +1168,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
                 value,
             });
         }
+        if id == InputId::FN && value < 0.0 {
+            return Err(SimError::NegativeLoad(value));
+        }
         let t = self.radau.t;
         let track = &mut self.dynamics.tracks[k];
         if track.value.to_bits() == value.to_bits() && track.t_ref == t {
@@ -1051,6 +1181,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         }
         track.t_ref = t;
         track.value = value;
+        if id == InputId::FN {
+            self.update_lifted();
+        }
         self.radau.restart();
         Ok(())
     }
@@ -1071,6 +1204,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         track.value = track.at(t);
         track.t_ref = t;
         track.slope = value;
+        if id == InputId::FN {
+            self.update_lifted();
+        }
         self.radau.restart();
         Ok(())
     }
@@ -1095,7 +1231,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             c if c > t0 => c,
             _ => t_end,
         };
-        let saved = (self.radau, self.window, self.exp_h, self.step);
+        let saved = (
+            self.radau,
+            self.window,
+            self.exp_h,
+            self.step,
+            self.dynamics.lifted,
+        );
         let f_start = self.eval_now().f;
         self.step.acc = [0.0; MAX_QUAD];
         let h_max = self.h_max();
@@ -1118,8 +1260,22 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
                     // whichever side of it the importer's rounding put the point.
                     t_b = t_end;
                 }
-                let target = t_b.min(t_end);
+                let mut target = t_b.min(t_end);
+                let load_event = self.dynamics.load_event(self.radau.t, target);
+                if let Some(t_event) = load_event {
+                    target = t_event;
+                }
                 self.integrate(target, h_max)?;
+                if load_event.is_some() {
+                    self.dynamics.lifted = !self.dynamics.lifted;
+                    if self.dynamics.lifted {
+                        // No load, no deformation.
+                        let mut y = self.radau.y;
+                        y.as_mut_slice()[..V::DIM].fill(0.0);
+                        self.radau.y = y;
+                    }
+                    self.radau.restart();
+                }
                 if target == t_b {
                     self.window.last = Some(self.window.acc / self.window.len);
                     self.window.acc = 0.0;
@@ -1130,7 +1286,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         })();
         if let Err(e) = result {
             // Leave the simulator as it was before the call.
-            (self.radau, self.window, self.exp_h, self.step) = saved;
+            (
+                self.radau,
+                self.window,
+                self.exp_h,
+                self.step,
+                self.dynamics.lifted,
+            ) = saved;
             return Err(e);
         }
         let h = self.radau.t - t0;
@@ -1161,7 +1323,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let body = &self.radau.y.as_slice()[V::DIM..];
         let pos = self.dynamics.drive.position(body, &e.drive);
         let f_mean = self.f_mean();
-        let f_c = self.dynamics.f_c;
+        let f_c = self.dynamics.f_c_at(self.radau.t);
         let f_d = match self.config.drive {
             super::Drive::Velocity => e.f.x(),
             _ => self.dynamics.drive.drive_force(body, &e.drive),
@@ -1180,7 +1342,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             s_y: e.s.y(),
             f_mean,
             reduction: if f_c > 0.0 { f_mean / f_c } else { 1.0 },
-            p_diss: self.dynamics.law.dissipation(e.s, e.vr, e.ds),
+            p_diss: self
+                .dynamics
+                .law_at(self.radau.t)
+                .dissipation(e.s, e.vr, e.ds),
             f_d,
         }
     }
@@ -1274,6 +1439,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             st.h,
             st.f_start[0],
             st.f_start[1],
+            self.dynamics.lifted as u8 as f64,
         ]);
         debug_assert_eq!(out.len(), Self::SNAPSHOT_LEN);
         out
@@ -1292,7 +1458,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
                 .map_err(|_| SimError::BadSnapshot("parameter out of range"))?;
         }
         let mut rest = &state[19..];
-        let mut tracks = [InputTrack::default(); 4];
+        let mut tracks = [InputTrack::default(); 5];
         for t in tracks.iter_mut() {
             *t = InputTrack {
                 t_ref: rest[0],
@@ -1304,7 +1470,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let x_kin_ref = rest[0];
         let (h_t_ref, h_theta_ref) = (rest[1], rest[2]);
         let w = &rest[3..9];
-        let (rest, step) = rest.split_at(rest.len() - 6);
+        let (rest, step) = rest.split_at(rest.len() - 7);
         let (integrator, exp_h) = rest[9..].split_at(rest.len() - 10);
         let radau =
             Radau5::<N>::load(integrator).ok_or(SimError::BadSnapshot("integrator state"))?;
@@ -1331,6 +1497,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             h: step[3],
             f_start: [step[4], step[5]],
         };
+        c.dynamics.lifted = step[6] != 0.0;
         c.update_scale();
         *self = c;
         Ok(())
@@ -1496,6 +1663,7 @@ mod tests {
                         lateral: $lateral,
                         harmonic: true,
                         input_support: true,
+                        normal_input: false,
                     };
                     match law {
                         Law::Dahl => check::<$v, Dahl, $d, $n>(c, p),
@@ -1529,6 +1697,7 @@ mod tests {
             lateral: Lateral::Guided,
             harmonic: true,
             input_support: true,
+            normal_input: false,
         };
         check::<f64, Dahl, Force, 3>(c, p);
     }

@@ -14,6 +14,8 @@ pub struct Inputs {
     pub v_sx: f64,
     /// Support velocity along y, `v_sy` [m/s] (input support motion, planar).
     pub v_sy: f64,
+    /// Normal force `F_N` [N] (scenes with `normal = "input"`).
+    pub f_n: f64,
 }
 
 /// Identifies one input, for generic access.
@@ -23,10 +25,18 @@ pub enum InputId {
     VD,
     VSx,
     VSy,
+    /// The normal force, in scenes where it is an input (its variable is the parameter `F_N`'s).
+    FN,
 }
 
 impl InputId {
-    pub const ALL: [InputId; 4] = [InputId::FD, InputId::VD, InputId::VSx, InputId::VSy];
+    pub const ALL: [InputId; 5] = [
+        InputId::FD,
+        InputId::VD,
+        InputId::VSx,
+        InputId::VSy,
+        InputId::FN,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -34,6 +44,7 @@ impl InputId {
             InputId::VD => "v_d",
             InputId::VSx => "v_sx",
             InputId::VSy => "v_sy",
+            InputId::FN => "F_N",
         }
     }
 
@@ -43,6 +54,7 @@ impl InputId {
             InputId::VD => i.v_d,
             InputId::VSx => i.v_sx,
             InputId::VSy => i.v_sy,
+            InputId::FN => i.f_n,
         }
     }
 
@@ -52,6 +64,7 @@ impl InputId {
             InputId::VD => &mut i.v_d,
             InputId::VSx => &mut i.v_sx,
             InputId::VSy => &mut i.v_sy,
+            InputId::FN => &mut i.f_n,
         }
     }
 
@@ -62,6 +75,7 @@ impl InputId {
             InputId::VD => c.drive != Drive::Force,
             InputId::VSx => c.input_support,
             InputId::VSy => c.input_support && c.planar(),
+            InputId::FN => c.normal_input,
         }
     }
 }

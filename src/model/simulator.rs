@@ -16,6 +16,10 @@ pub enum SimError {
     Input { name: &'static str, value: f64 },
     /// An input the configuration does not have.
     NoSuchInput(&'static str),
+    /// A parameter that is an input in this configuration (`F_N` with `normal = "input"`).
+    NoSuchParam(&'static str),
+    /// A negative normal force.
+    NegativeLoad(f64),
     /// A target time that is not after the current time, or not finite.
     Time { now: f64, target: f64 },
     /// A tolerance that is not finite and > 0.
@@ -36,6 +40,16 @@ impl std::fmt::Display for SimError {
             ),
             SimError::Input { name, value } => write!(f, "{name} = {value}: must be finite"),
             SimError::NoSuchInput(n) => write!(f, "{n}: this scene has no such input"),
+            SimError::NoSuchParam(n) => {
+                write!(
+                    f,
+                    "{n}: an input in this scene (normal = \"input\"), not a parameter"
+                )
+            }
+            SimError::NegativeLoad(v) => write!(
+                f,
+                "F_N = {v}: must be >= 0 (a contact cannot pull; 0: the body has lifted off)"
+            ),
             SimError::Time { now, target } => write!(
                 f,
                 "step target time {target} must be finite and later than the current time {now}"

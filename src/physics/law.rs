@@ -150,6 +150,10 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn bound(&self) -> Option<f64>;
     /// Natural magnitude of `s`, for error norms.
     fn s_scale(&self) -> f64;
+    /// A bound on `|s|` that the law keeps invariant under constant parameters: the
+    /// deformation that the largest friction force holds (`s_ss`; LuGre `max(F_C, F_S)/k_t`).
+    /// Where the normal force falls, the contact slips back onto it.
+    fn envelope(&self) -> f64;
     /// Partial derivatives at `(s, v_r)`, with `ds = rate(s, v_r)`.
     fn jacobian<V: Vector>(&self, s: V, vr: V, ds: V) -> LawJacobian;
     /// The law's relaxation in the relative displacement, where it has one (Dahl with friction;
@@ -222,6 +226,10 @@ impl FrictionLaw for Dahl {
 
     fn bound(&self) -> Option<f64> {
         Some(self.s_ss)
+    }
+
+    fn envelope(&self) -> f64 {
+        self.s_ss
     }
 
     fn s_scale(&self) -> f64 {
@@ -349,6 +357,10 @@ impl FrictionLaw for Dupont {
         Some(self.s_ss)
     }
 
+    fn envelope(&self) -> f64 {
+        self.s_ss
+    }
+
     fn s_scale(&self) -> f64 {
         self.s_ss.max(S_FLOOR)
     }
@@ -426,6 +438,10 @@ impl FrictionLaw for LuGre {
 
     fn bound(&self) -> Option<f64> {
         None
+    }
+
+    fn envelope(&self) -> f64 {
+        self.f_c.max(self.f_s) / self.k_t
     }
 
     fn s_scale(&self) -> f64 {

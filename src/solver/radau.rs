@@ -52,7 +52,7 @@ pub trait OdeSystem<const N: usize> {
         [0.0; MAX_SWITCH]
     }
     /// Projects a state onto the invariant set of the exact flow (no-op by default).
-    fn project(&self, _y: &mut SVector<f64, N>) {}
+    fn project(&self, _t: f64, _y: &mut SVector<f64, N>) {}
     /// The Jacobian `∂f/∂y` at `(t, y)`, if the system has it in closed form; otherwise the
     /// integrator uses forward differences.
     fn jacobian(&self, _t: f64, _y: &SVector<f64, N>) -> Option<SMatrix<f64, N, N>> {
@@ -717,7 +717,7 @@ impl<const N: usize> Radau5<N> {
                 quad,
             });
             let mut y_acc = y_new;
-            sys.project(&mut y_acc);
+            sys.project(t_new, &mut y_acc);
             self.y = y_acc;
             self.t = t_new;
             self.cont = cont;

@@ -11,6 +11,7 @@ pub fn long_velocity(law: Law) -> Config {
         lateral: Lateral::Guided,
         harmonic: true,
         input_support: false,
+        normal_input: false,
     }
 }
 
@@ -23,5 +24,6 @@ pub fn planar_force(law: Law) -> Config {
         lateral: Lateral::Guided,
         harmonic: true,
         input_support: true,
+        normal_input: false,
     }
 }
