@@ -165,6 +165,10 @@ fn equations(scene: &Scene) -> Vec<String> {
     };
     eq.push(format!("<code>F_mean</code>: exact mean of <code>F_Fx</code> over the most recently completed averaging window (Eq. 11), {window}; the mean since start until a first window completes. <code>reduction = F_mean/F_C</code> (1 when F_C = 0)."));
     eq.push("<code>P_diss = F_F·v_r − d(k_t·|s|²/2)/dt</code>: the power dissipated in the contact (never negative for Dahl and Dupont).".to_string());
+    eq.push("<code>F_Fx_step</code>, <code>F_Fy_step</code>: the exact mean of each friction component over the last communication step, <code>∫F dt/h</code>: the impulse a host that integrates the body itself applies, without sampling a force that vibrates between its samples. First-order output derivatives (<code>fmi2GetRealOutputDerivatives</code>) are exact for <code>x</code>, <code>y</code>, <code>v_x</code>, <code>v_y</code>, <code>s_x</code>, <code>s_y</code> and the step means (as moving means over the last step).".to_string());
+    if c.normal_input {
+        eq.push("Normal force: <code>F_N</code> is an input (held, or extrapolated with its derivative); <code>F_C = mu·F_N(t)</code> and what follows from it change with it, and LuGre's <code>F_S</code> and <code>zeta_t</code> are given at the start value of <code>F_N</code> and scale with the load. A negative <code>F_N</code> is refused; below the tolerance times the start value the body has lifted off: no friction, no deformation, until the load returns.".to_string());
+    }
     eq
 }
 

@@ -1,0 +1,65 @@
+"""The drill-string example (examples/drill_string/host.py): a host model feeds the side force
+F_N (with lift-off) and the axial vibration v_sx of the string, with input derivatives, to the
+DrillStringContact FMU through fmpy."""
+
+import importlib.util
+import math
+
+from conftest import ROOT, fmu_path
+
+spec = importlib.util.spec_from_file_location("host", ROOT / "examples" / "drill_string" / "host.py")
+host = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(host)
+
+M = 5.6  # the section's mass (the default of m)
+
+
+def test_drill_string_host_lifts_off_lands_and_keeps_the_momentum_balance():
+    step = 2e-4
+    rows = host.run(stop=0.2, step=step, fmu_path=fmu_path("DrillStringContact"))
+    assert all(math.isfinite(v) for r in rows for v in r)
+    off = [r for r in rows if r[1] == 0.0 and r[2] == 0.0]
+    on = [r for r in rows if r[1] > 0.0]
+    assert len(off) > 100 and len(on) > 100, (len(off), len(on))
+    # Off the wall for a whole step: no friction at all.
+    assert all(r[7] == 0.0 for r in off)
+    # On it, the section is held or dragged: friction.
+    assert max(abs(r[7]) for r in on) > 1.0
+    # Every step: m*(v_x - v_x_start) = (F_d - F_Fx_step)*h, F_d held.
+    worst = max(abs(M * (r[6] - r[5]) - (host.F_D - r[7]) * step) for r in rows)
+    print(f"momentum balance within {worst:.3e} N*s over {len(rows)} steps")
+    assert worst <= 1e-9, worst
+
+
+def test_negative_normal_force_is_refused(capfd):
+    import shutil
+
+    import pytest
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave
+
+    path = fmu_path("DrillStringContact")
+    md = read_model_description(path)
+    f_n = next(v for v in md.modelVariables if v.name == "F_N")
+    assert (f_n.causality, f_n.variability, f_n.valueReference) == ("input", "continuous", 2)
+    unzipdir = extract(path)
+    fmu = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=unzipdir,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="negative-load",
+    )
+    try:
+        fmu.instantiate()
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        fmu.doStep(0.0, 1e-3)
+        capfd.readouterr()
+        with pytest.raises(Exception, match="status 3"):
+            fmu.setReal([2], [-1.0])
+        out = capfd.readouterr().out
+        assert "F_N = -1" in out and ">= 0" in out, out
+        fmu.freeInstance()
+    finally:
+        shutil.rmtree(unzipdir, ignore_errors=True)
