@@ -747,6 +747,12 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     work: Workspace,
     window: Window,
     step: StepMean,
+    /// The start time: every time inside the contact (integrator, input tracks, harmonic
+    /// phase, windows) counts from it, so that a start time of 1e9 s keeps the resolution of
+    /// one of 0.
+    epoch: f64,
+    /// The current time as the importer gave it.
+    t_abs: f64,
 }
 
 /// Builds the contact with state dimension `N` (checked against the types).
@@ -764,7 +770,16 @@ pub fn boxed<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
 }
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
+    /// A contact at rest at `t_start`; inside, times count from `t_start` (see `epoch`).
     fn new(config: Config, params: Params, t_start: f64, tolerance: f64) -> Self {
+        let mut c = Self::new_local(config, params, tolerance);
+        c.epoch = t_start;
+        c.t_abs = t_start;
+        c
+    }
+
+    fn new_local(config: Config, params: Params, tolerance: f64) -> Self {
+        let t_start = 0.0;
         let dynamics = Dynamics {
             law: L::new(&params),
             drive: D::new(&params),
@@ -806,6 +821,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 last: None,
             },
             step: StepMean::NONE,
+            epoch: 0.0,
+            t_abs: 0.0,
         };
         c.window.len = c.window_length();
         c.update_scale();
@@ -1084,7 +1101,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     /// Number of numbers in a snapshot.
-    const SNAPSHOT_LEN: usize = 1 + 18 + 15 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1 + 6 + 1;
+    const SNAPSHOT_LEN: usize = 1 + 18 + 15 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1 + 6 + 1 + 2;
 
     fn config_code(&self) -> f64 {
         let c = &self.config;
@@ -1153,7 +1170,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     }
 
     fn time(&self) -> f64 {
-        self.radau.t
+        self.t_abs
     }
 
     fn tolerance(&self) -> f64 {
@@ -1220,17 +1237,26 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     }
 
     fn step_to(&mut self, t_end: f64) -> Result<(), SimError> {
+        let now = self.t_abs;
         let t0 = self.radau.t;
-        if !(t_end.is_finite() && t_end > t0) {
+        // In the contact's own time, counted from its start (the subtraction is exact where the
+        // importer's times lie near the start or far above it), taken as the short decimal the
+        // importer meant where it is one.
+        let requested = t_end - self.epoch;
+        let t_end = match canonical_time(requested) {
+            c if c > t0 => c,
+            _ => requested,
+        };
+        if !(requested.is_finite() && requested > t0 && t_end > t0) {
             return Err(SimError::Time {
-                now: t0,
-                target: t_end,
+                now,
+                target: t_end + self.epoch,
             });
         }
-        let t_end = match canonical_time(t_end) {
-            c if c > t0 => c,
-            _ => t_end,
-        };
+        let t_end_abs = self.epoch + t_end;
+        // How close to a window boundary a communication point counts as on it: the importer's
+        // rounding, relative to the time it counts in.
+        let snap = (TIME_SNAP * t_end.abs()).max(4.0 * f64::EPSILON * t_end_abs.abs());
         let saved = (
             self.radau,
             self.window,
@@ -1255,7 +1281,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
                     continue;
                 }
                 let mut t_b = self.window.end();
-                if (t_b - t_end).abs() <= TIME_SNAP * t_end.abs() {
+                if (t_b - t_end).abs() <= snap {
                     // A communication point on a window boundary completes the window,
                     // whichever side of it the importer's rounding put the point.
                     t_b = t_end;
@@ -1295,6 +1321,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             ) = saved;
             return Err(e);
         }
+        self.t_abs = t_end_abs;
         let h = self.radau.t - t0;
         self.step.last = Some(self.step.acc.map(|a| a / h));
         self.step.h = h;
@@ -1440,6 +1467,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             st.f_start[0],
             st.f_start[1],
             self.dynamics.lifted as u8 as f64,
+            self.epoch,
+            self.t_abs,
         ]);
         debug_assert_eq!(out.len(), Self::SNAPSHOT_LEN);
         out
@@ -1470,11 +1499,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let x_kin_ref = rest[0];
         let (h_t_ref, h_theta_ref) = (rest[1], rest[2]);
         let w = &rest[3..9];
-        let (rest, step) = rest.split_at(rest.len() - 7);
+        let (rest, step) = rest.split_at(rest.len() - 9);
         let (integrator, exp_h) = rest[9..].split_at(rest.len() - 10);
         let radau =
             Radau5::<N>::load(integrator).ok_or(SimError::BadSnapshot("integrator state"))?;
-        let mut c = Contact::<V, L, D, N>::new(self.config, params, radau.t, radau.tolerance());
+        let mut c = Contact::<V, L, D, N>::new_local(self.config, params, radau.tolerance());
+        (c.epoch, c.t_abs) = (step[7], step[8]);
         c.dynamics.tracks = tracks;
         c.dynamics.x_kin_ref = x_kin_ref;
         if let Some(h) = &mut c.dynamics.harmonic {

@@ -224,3 +224,38 @@ def test_output_derivatives_match_finite_differences_through_fmpy(default_fmu):
         fmu.freeInstance()
     finally:
         shutil.rmtree(unzipdir, ignore_errors=True)
+
+
+def test_a_start_time_of_1e9_s_keeps_full_accuracy(default_fmu):
+    """Stepped from t = 1e9 s and from 0 on a grid both represent exactly (2^-10 s): the same
+    outputs, bit for bit (the FMU counts time from its start)."""
+    md = read_model_description(default_fmu)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    names = ["F_Fx", "F_mean", "x", "v_x", "F_Fx_step"]
+    h = 2.0**-10
+    runs = []
+    for t0 in (0.0, 1e9):
+        unzipdir = extract(default_fmu)
+        fmu = FMU2Slave(
+            guid=md.guid,
+            unzipDirectory=unzipdir,
+            modelIdentifier=md.coSimulation.modelIdentifier,
+            instanceName="late-start",
+        )
+        try:
+            fmu.instantiate()
+            fmu.setupExperiment(startTime=t0)
+            fmu.enterInitializationMode()
+            fmu.exitInitializationMode()
+            rows = []
+            for k in range(40):
+                fmu.doStep(currentCommunicationPoint=t0 + k * h, communicationStepSize=h)
+                rows.append(fmu.getReal([vr[n] for n in names]))
+            fmu.terminate()
+            fmu.freeInstance()
+        finally:
+            shutil.rmtree(unzipdir, ignore_errors=True)
+        runs.append(np.array(rows))
+    diff = np.argwhere(runs[0] != runs[1])
+    assert len(diff) == 0, (diff[:5], runs[0][tuple(diff[0])], runs[1][tuple(diff[0])])
+    assert np.all(np.isfinite(runs[1]))
