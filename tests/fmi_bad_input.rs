@@ -813,14 +813,17 @@ fn dupont_breakaway_ratio_outside_zero_one() {
                 Init,
                 "r_ba = 1",
                 Error,
-                &["r_ba = 1", ">= 0 and < 1"],
+                &["r_ba = 1", "must be in [0e0, 9.99e-1]"],
                 |i| i.set_real(&[vr::R_BA], &[1.0]),
             ),
             case(
                 Init,
                 "r_ba < 0",
                 Error,
-                &["r_ba = -1", ">= 0 and < 1"],
+                &[
+                    "r_ba = -1",
+                    "must be finite and >= 0 (accepted: 0e0 to 9.99e-1)",
+                ],
                 |i| i.set_real(&[vr::R_BA], &[-0.1]),
             ),
             case(

@@ -181,3 +181,70 @@ fn free_state_accepts_null_and_states_survive_reset() {
     assert_eq!(run(&mut a, &vrs, 2, 4, 2.0 * H, H), straight);
     ok!(a, a.free_state(s));
 }
+
+/// FNV-1a, 64 bit: the serialized state's checksum, to craft states that pass it.
+fn fnv1a(b: &[u8]) -> u64 {
+    b.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &x| {
+        (h ^ x as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// `bytes` with number `k` of the simulator snapshot (the last block before the checksum, its
+/// count in the u32 before it) replaced by `value`, and the checksum made to match.
+fn crafted(bytes: &[u8], k: usize, value: f64) -> Vec<u8> {
+    let mut b = bytes.to_vec();
+    let end = b.len() - 8;
+    let n = (1..4096)
+        .find(|&n| {
+            end >= 8 * n + 4
+                && u32::from_le_bytes(b[end - 8 * n - 4..end - 8 * n].try_into().unwrap()) as usize
+                    == n
+        })
+        .unwrap();
+    let at = end - 8 * n + 8 * k;
+    b[at..at + 8].copy_from_slice(&value.to_bits().to_le_bytes());
+    let sum = fnv1a(&b[..end]);
+    b[end..].copy_from_slice(&sum.to_le_bytes());
+    b
+}
+
+/// A serialized state is untrusted input: one whose checksum matches but whose fields are
+/// inconsistent or out of range is refused naming the field, and the instance goes on as
+/// before (it used to accept them and then return NaN, loop, or refuse every later call).
+#[test]
+fn crafted_states_are_refused_field_by_field() {
+    let fmu = load("contact.toml", "state-crafted");
+    let vrs = all_vrs(&scene("contact.toml"));
+    let mut a = started(&fmu, "a", &[]);
+    ok!(a, a.do_step(0.0, H));
+    let s = a.get_state().unwrap();
+    let bytes = a.serialize_state(&s).unwrap();
+    // Snapshot layout: configuration code, 19 parameters (f is the 13th), 5 input tracks of
+    // (t_ref, value, slope), x_kin_ref, the harmonic's (t_ref, phase), the window's (origin,
+    // length, index, integral, last mean, flag), ...
+    let cases: [(usize, f64, &str); 6] = [
+        (13, 1e12, "parameter f = 1e12"),
+        (37, f64::NEG_INFINITY, "number 37 is -inf"),
+        (39, 0.0, "window length = 0"),
+        (40, 0.5, "window index = 0.5"),
+        (21, 5e9, "input F_d = 5000000000"),
+        (1 + 19 + 15 + 2, 7.0, "harmonic phase reference = 7"),
+    ];
+    let mut b = started(&fmu, "b", &[]);
+    ok!(b, b.do_step(0.0, H));
+    let before = b.get_real(&vrs).unwrap();
+    for (k, value, field) in cases {
+        assert_eq!(
+            b.deserialize_state(&crafted(&bytes, k, value)).err(),
+            Some(Status::Error),
+            "{field}"
+        );
+        let msg = b.last_message();
+        assert!(msg.contains(field), "{field}: {msg}");
+        assert_eq!(b.get_real(&vrs).unwrap(), before, "{field}");
+    }
+    // The untouched state still restores, also after all that.
+    let sb = b.deserialize_state(&bytes).unwrap();
+    ok!(b, b.set_state(&sb));
+    ok!(b, b.do_step(H, H));
+}

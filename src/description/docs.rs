@@ -3,10 +3,9 @@
 //! with no script, readable offline in any browser.
 
 use crate::description::scene::{drive_name, lateral_name, law_name, motion_name, summary, Scene};
-use crate::description::variables::{Causality, VarKind, Variable};
+use crate::description::variables::{Causality, Variable};
 use crate::description::xml::{self, DEFAULT_EXPERIMENT, DISPLAY_UNITS};
 use crate::model::{Drive, Law, Motion};
-use crate::physics::Rule;
 
 /// Escapes text for HTML element content and attribute values.
 pub fn escape(s: &str) -> String {
@@ -52,20 +51,15 @@ fn start_html(scene: &Scene, v: &Variable) -> String {
     s
 }
 
-fn range_html(v: &Variable) -> String {
-    match v.kind {
-        VarKind::Param(p) => match p.rule() {
-            Rule::Positive => "&gt; 0".into(),
-            Rule::NonNegative => "≥ 0".into(),
-            Rule::UnitInterval => "[0, 1)".into(),
-            Rule::Finite => String::new(),
-        },
-        _ => match (v.min(), v.max()) {
-            (Some(a), Some(b)) => format!("[{}, {}]", xml::number(a), xml::number(b)),
-            (Some(a), None) => format!("≥ {}", xml::number(a)),
-            (None, Some(b)) => format!("≤ {}", xml::number(b)),
-            (None, None) => String::new(),
-        },
+fn range_html(v: &Variable, c: &crate::model::Config) -> String {
+    if v.causality(c) == Causality::Output {
+        return String::new();
+    }
+    match (v.min(c), v.max(c)) {
+        (Some(a), Some(b)) => format!("[{}, {}]", xml::number(a), xml::number(b)),
+        (Some(a), None) => format!("≥ {}", xml::number(a)),
+        (None, Some(b)) => format!("≤ {}", xml::number(b)),
+        (None, None) => String::new(),
     }
 }
 
@@ -229,7 +223,7 @@ pub fn index_html(scene: &Scene) -> String {
             escape(v.unit),
             display_unit_html(v),
             if causality == Causality::Output { "(calculated)".into() } else { start_html(scene, v) },
-            range_html(v),
+            range_html(v, c),
             escape(v.description)
         ));
     }

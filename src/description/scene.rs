@@ -634,19 +634,22 @@ impl Scene {
             };
             match var.kind {
                 VarKind::Param(p) => {
-                    p.set(&mut start, value).map_err(|e| {
-                        ctx.err(
-                            Some(&span),
-                            key.clone(),
-                            shown.clone(),
-                            e.rule.text(),
-                            vec![],
-                        )
-                    })?;
+                    crate::model::check_param(p, value, &config)
+                        .and_then(|_| p.set(&mut start, value))
+                        .map_err(|e| {
+                            ctx.err(
+                                Some(&span),
+                                key.clone(),
+                                shown.clone(),
+                                e.rule_text(),
+                                vec![],
+                            )
+                        })?;
                 }
                 VarKind::Input(i) => {
-                    if !value.is_finite() {
-                        return Err(ctx.err(Some(&span), key, shown, "must be finite", vec![]));
+                    if !i.rule().holds(value) {
+                        let rule = i.rule().text(value, i.unit());
+                        return Err(ctx.err(Some(&span), key, shown, rule, vec![]));
                     }
                     *i.slot(&mut inputs) = value;
                 }
@@ -978,19 +981,23 @@ v_d = 5e-4
     fn start_value_out_of_range() {
         assert_eq!(
             err(&planar("", "k_t = -1e8")),
-            "bad.toml:8: start.k_t = -1e8: must be finite and > 0"
+            "bad.toml:8: start.k_t = -1e8: must be finite and > 0 (accepted: 1e2 to 1e13 N/m)"
         );
         assert_eq!(
             err(&planar("", "mu = -0.1")),
-            "bad.toml:8: start.mu = -0.1: must be finite and >= 0"
+            "bad.toml:8: start.mu = -0.1: must be finite and >= 0 (accepted: 0e0 to 1e1)"
         );
         assert_eq!(
             err(&planar("", "m = nan")),
-            "bad.toml:8: start.m = nan: must be finite and > 0"
+            "bad.toml:8: start.m = nan: must be finite and > 0 (accepted: 1e-4 to 1e6 kg)"
         );
         assert_eq!(
             err(&planar("", "v_sx = inf").replace("[\"harmonic\"]", "[\"input\"]")),
-            "bad.toml:8: start.v_sx = inf: must be finite"
+            "bad.toml:8: start.v_sx = inf: must be finite (accepted: -1e3 to 1e3 m/s)"
+        );
+        assert_eq!(
+            err(&planar("", "f = 1e8")),
+            "bad.toml:8: start.f = 1e8: must be in [0e0, 1e7] Hz"
         );
         assert_eq!(
             err(&planar("", "m = \"heavy\"")),
@@ -999,7 +1006,7 @@ v_d = 5e-4
         let dupont = planar("", "r_ba = 1").replace("dahl", "dupont");
         assert_eq!(
             err(&dupont),
-            "bad.toml:8: start.r_ba = 1: must be finite, >= 0 and < 1"
+            "bad.toml:8: start.r_ba = 1: must be in [0e0, 9.99e-1]"
         );
     }
 
@@ -1007,7 +1014,7 @@ v_d = 5e-4
     fn start_key_the_scene_does_not_have() {
         let e = err(&planar("", "F_S = 20"));
         assert!(
-            e.starts_with("bad.toml:8: start.F_S = 20: F_S is not a parameter of a dahl planar scene with force drive; valid: m, F_N, mu, k_t, u0, f, angle, phase, T_avg, F_d"),
+            e.starts_with("bad.toml:8: start.F_S = 20: F_S is not a parameter of a dahl planar scene with force drive; valid: m, F_N, mu, k_t, u0, f, angle, phase, T_avg, max_steps, F_d"),
             "{e}"
         );
         let e = err(&planar("", "kappa = 2"));

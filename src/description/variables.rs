@@ -137,20 +137,22 @@ impl Variable {
         }
     }
 
-    /// Physical lower bound (`min`), where physics gives one.
-    pub fn min(&self) -> Option<f64> {
+    /// Lower bound (`min`): the accepted range of parameters and inputs (outputs have none:
+    /// LuGre, for one, is not passive in general).
+    pub fn min(&self, c: &Config) -> Option<f64> {
         match self.kind {
-            VarKind::Param(p) => p.rule().min(),
-            VarKind::Output(OutputId::PDiss) => None, // LuGre is not passive in general
-            _ => None,
+            VarKind::Param(p) => crate::model::param_rule(p, c).min(),
+            VarKind::Input(i) => i.rule().min(),
+            VarKind::Output(_) => None,
         }
     }
 
-    /// Physical upper bound (`max`), where physics gives one.
-    pub fn max(&self) -> Option<f64> {
+    /// Upper bound (`max`) of the accepted range of parameters and inputs.
+    pub fn max(&self, c: &Config) -> Option<f64> {
         match self.kind {
-            VarKind::Param(p) => p.rule().max(),
-            _ => None,
+            VarKind::Param(p) => crate::model::param_rule(p, c).max(),
+            VarKind::Input(i) => i.rule().max(),
+            VarKind::Output(_) => None,
         }
     }
 
@@ -265,7 +267,7 @@ const MMS: Option<&str> = Some("mm/s");
 const DEG: Option<&str> = Some("deg");
 
 /// Every variable of every scene, in `ModelVariables` order.
-pub static VARIABLES: [Variable; 35] = [
+pub static VARIABLES: [Variable; 36] = [
     param(1, ParamId::M, "kg", None, "Body mass"),
     param(2, ParamId::FN, "N", None, "Normal force pressing the body on the support"),
     param(3, ParamId::Mu, "1", None, "Coulomb friction coefficient (F_C = mu*F_N)"),
@@ -284,6 +286,7 @@ pub static VARIABLES: [Variable; 35] = [
     param(16, ParamId::KD, "N/m", None, "Spring-drive stiffness"),
     param(17, ParamId::CD, "N.s/m", None, "Spring-drive damping"),
     param(18, ParamId::TAvg, "s", None, "Averaging window of F_mean without harmonic source (or at f = 0)"),
+    param(19, ParamId::MaxSteps, "1", None, "Most integrator steps in one communication step (like CVODE's mxstep): a step that needs more returns fmi2Discard; use shorter communication steps or raise it"),
     input(101, InputId::FD, "N", None, "Driving force along x"),
     input(102, InputId::VD, "m/s", MMS, "Driving velocity"),
     input(103, InputId::VSx, "m/s", MMS, "Support velocity along x set by the importer"),

@@ -360,7 +360,14 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
             Some(Initial::Calculated) => None,
             _ => scene.start_of(v),
         };
-        let nums: Vec<(&str, String)> = [("start", start), ("min", v.min()), ("max", v.max())]
+        // The accepted range of what the importer sets (not of F_d as a spring drive's output).
+        let settable = v.causality(c) != Causality::Output;
+        let (min, max) = if settable {
+            (v.min(c), v.max(c))
+        } else {
+            (None, None)
+        };
+        let nums: Vec<(&str, String)> = [("start", start), ("min", min), ("max", max)]
             .into_iter()
             .filter_map(|(n, x)| x.map(|x| (n, number(x))))
             .collect();

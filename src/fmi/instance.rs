@@ -514,10 +514,25 @@ impl Instance {
                 );
             }
         }
-        self.st.tolerance = tolerance;
+        let (lo, hi) = model::TOLERANCE_RANGE;
+        let clamped = tolerance.map(|t| t.clamp(lo, hi));
+        self.st.tolerance = clamped;
         self.st.start_time = start_time;
         self.st.stop_time = stop_time;
         self.provisional = None;
+        if let (Some(asked), Some(used)) = (tolerance, clamped) {
+            if asked != used {
+                self.log(
+                    Status::Warning,
+                    Category::StatusWarning,
+                    &format!(
+                        "{F}: tolerance = {asked:e} is outside [{lo:e}, {hi:e}], the range the integrators resolve: using {used:e} [instance \"{}\"]",
+                        self.name
+                    ),
+                );
+                return Status::Warning;
+            }
+        }
         self.event(|| {
             format!(
                 "{F}: tolerance {} ({}), startTime {start_time}, stopTime {}",
@@ -681,6 +696,12 @@ impl Instance {
                 VarKind::Output(o) => o.get(&outputs),
             };
         }
+        // fmi2OK never comes with a non-finite value (the ranges are chosen so that none
+        // arises; this is the last guard).
+        if let Some((v, x)) = vars.iter().zip(values.iter()).find(|(_, x)| !x.is_finite()) {
+            let (name, x) = (v.name(), *x);
+            return self.fail(F, format!("{name} evaluates to {x}: a parameter or input is beyond what the model can compute; restore a state with fmi2SetFMUstate"));
+        }
         Status::Ok
     }
 
@@ -707,10 +728,11 @@ impl Instance {
                     )
                 }
                 (VarKind::Param(ParamId::FN), Causality::Input) => {
-                    if !(value.is_finite() && value >= 0.0) {
+                    let rule = InputId::FN.rule();
+                    if !rule.holds(value) {
                         return self.fail(
                             F,
-                            format!("F_N = {value}: must be finite and >= 0 (vr {vr}; a contact cannot pull, 0: the body has lifted off)"),
+                            format!("F_N = {value}: {} (vr {vr}; a contact cannot pull, 0: the body has lifted off)", rule.text(value, "N")),
                         );
                     }
                     plan.push(Assign::Input(InputId::FN, value));
@@ -725,14 +747,17 @@ impl Instance {
                             ),
                         );
                     }
-                    if let Err(e) = p.check(value) {
+                    if let Err(e) = model::check_param(p, value, &config) {
                         return self.fail(F, format!("{e} (vr {vr})"));
                     }
                     plan.push(Assign::Param(p, value));
                 }
                 (VarKind::Input(i), _) => {
-                    if !value.is_finite() {
-                        return self.fail(F, format!("{name} = {value}: must be finite (vr {vr})"));
+                    if !i.rule().holds(value) {
+                        return self.fail(
+                            F,
+                            format!("{name} = {value}: {} (vr {vr})", i.rule().text(value, i.unit())),
+                        );
                     }
                     plan.push(Assign::Input(i, value));
                 }
@@ -810,10 +835,14 @@ impl Instance {
                     format!("order = {order} for {name} (vr {vr}): only first derivatives (order 1) are supported"),
                 );
             }
-            if !value.is_finite() {
+            if !(value.is_finite() && value.abs() <= model::MAX_INPUT_RATE) {
                 return self.fail(
                     F,
-                    format!("derivative of {name} = {value}: must be finite (vr {vr})"),
+                    format!(
+                        "derivative of {name} = {value}: must be finite and at most {:e} {}/s in magnitude (vr {vr})",
+                        model::MAX_INPUT_RATE,
+                        id.unit()
+                    ),
                 );
             }
             plan.push((id, value));
@@ -1168,7 +1197,7 @@ impl Instance {
 // ---- serialisation -------------------------------------------------------------------------
 
 const MAGIC: &[u8; 16] = b"vibrofric-state\0";
-const FORMAT_VERSION: u32 = 2;
+const FORMAT_VERSION: u32 = 3;
 
 /// FNV-1a, 64 bit: detects a corrupted or truncated byte string.
 fn checksum(b: &[u8]) -> u64 {
@@ -1295,10 +1324,11 @@ pub fn deserialize(bytes: &[u8]) -> Result<FmuState, String> {
     let mut inputs = Inputs::default();
     for id in InputId::ALL {
         let x = r.f64()?;
-        if !x.is_finite() {
+        if !id.rule().holds(x) {
             return Err(format!(
-                "serialized input {} = {x}: must be finite",
-                id.name()
+                "serialized input {} = {x}: {}",
+                id.name(),
+                id.rule().text(x, id.unit())
             ));
         }
         *id.slot(&mut inputs) = x;
@@ -1336,12 +1366,56 @@ pub fn deserialize(bytes: &[u8]) -> Result<FmuState, String> {
             bytes.len() - r.at
         ));
     }
-    let finite = derivs.iter().flatten().all(|d| d.is_finite())
-        && start_time.is_finite()
-        && tolerance.is_none_or(|t| t.is_finite() && t > 0.0)
-        && stop_time.is_none_or(|t| t.is_finite());
-    if !finite {
-        return Err("serialized times, tolerance or derivatives are not finite".into());
+    // Untrusted input: every field checked as the calls that set it check it.
+    for (id, d) in InputId::ALL.iter().zip(derivs) {
+        if let Some(d) = d {
+            if !(d.is_finite() && d.abs() <= model::MAX_INPUT_RATE) {
+                return Err(format!(
+                    "serialized derivative of {} = {d}: must be finite and at most {:e} in magnitude",
+                    id.name(),
+                    model::MAX_INPUT_RATE
+                ));
+            }
+        }
+    }
+    if !start_time.is_finite() {
+        return Err(format!(
+            "serialized startTime = {start_time}: must be finite"
+        ));
+    }
+    if let Some(t) = tolerance {
+        let (lo, hi) = model::TOLERANCE_RANGE;
+        if !(lo..=hi).contains(&t) {
+            return Err(format!(
+                "serialized tolerance = {t}: must be in [{lo:e}, {hi:e}]"
+            ));
+        }
+    }
+    if let Some(t) = stop_time {
+        if !(t.is_finite() && t >= start_time) {
+            return Err(format!(
+                "serialized stopTime = {t}: must be finite and >= startTime = {start_time}"
+            ));
+        }
+    }
+    use FmiState as S;
+    match (state, sim.is_some()) {
+        (S::Fatal, _) => {
+            return Err("serialized state machine state Fatal cannot be restored".into())
+        }
+        (S::StepComplete | S::StepFailed | S::Terminated, false) => {
+            return Err(format!(
+                "serialized state machine state {} has no simulator state",
+                state.name()
+            ))
+        }
+        (S::Instantiated | S::InitializationMode, true) => {
+            return Err(format!(
+                "serialized state machine state {} cannot carry a simulator state",
+                state.name()
+            ))
+        }
+        _ => {}
     }
     Ok(FmuState {
         guid,

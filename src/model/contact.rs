@@ -18,7 +18,10 @@ use crate::physics::{
     FrictionLaw, Harmonic, InputTrack, LawJacobian, ParamId, Params, Relaxation, Vector,
 };
 use crate::solver::expint::{ExpIntegrator, Relaxing, Sample};
-use crate::solver::{OdeSystem, Quad, Radau5, Step, Workspace, MAX_DIM, MAX_QUAD, MAX_SWITCH};
+use crate::solver::{
+    OdeSystem, Quad, Radau5, SolverError, SolverStats, Step, Workspace, MAX_DIM, MAX_QUAD,
+    MAX_SWITCH,
+};
 
 /// Forces and motions the drive needs at one instant.
 #[derive(Clone, Copy, Debug)]
@@ -624,6 +627,14 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
     }
 }
 
+/// Most averaging windows one communication step may span: their index stays exact in a
+/// double and in the window count.
+const WINDOWS_MAX: f64 = 4e15;
+
+/// Largest magnitude of an input derivative, per second in the input's unit: far beyond any
+/// physical rate, small enough that an input extrapolated over any step stays finite.
+pub const MAX_INPUT_RATE: f64 = 1e12;
+
 /// Relative distance within which a communication point lies on a window boundary: far above
 /// the rounding of importers' time arithmetic, far below any physical time scale.
 const TIME_SNAP: f64 = 1e-12;
@@ -1101,7 +1112,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 
     /// Number of numbers in a snapshot.
-    const SNAPSHOT_LEN: usize = 1 + 18 + 15 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1 + 6 + 1 + 2;
+    const SNAPSHOT_LEN: usize =
+        1 + ParamId::ALL.len() + 15 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1 + 6 + 1 + 2;
 
     fn config_code(&self) -> f64 {
         let c = &self.config;
@@ -1179,14 +1191,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
 
     fn set_input(&mut self, id: InputId, value: f64) -> Result<(), SimError> {
         let k = self.track_index(id)?;
-        if !value.is_finite() {
-            return Err(SimError::Input {
-                name: id.name(),
-                value,
-            });
-        }
-        if id == InputId::FN && value < 0.0 {
-            return Err(SimError::NegativeLoad(value));
+        if !id.rule().holds(value) {
+            return Err(SimError::Input { id, value });
         }
         let t = self.radau.t;
         let track = &mut self.dynamics.tracks[k];
@@ -1207,11 +1213,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
 
     fn set_input_derivative(&mut self, id: InputId, value: f64) -> Result<(), SimError> {
         let k = self.track_index(id)?;
-        if !value.is_finite() {
-            return Err(SimError::Input {
-                name: id.name(),
-                value,
-            });
+        if !(value.is_finite() && value.abs() <= MAX_INPUT_RATE) {
+            return Err(SimError::InputDerivative { id, value });
         }
         let t = self.radau.t;
         let track = &mut self.dynamics.tracks[k];
@@ -1267,8 +1270,27 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let f_start = self.eval_now().f;
         self.step.acc = [0.0; MAX_QUAD];
         let h_max = self.h_max();
+        // The work limit: integrator attempts in this call, on every path.
+        let max_steps = self.params.max_steps;
+        let work = |s: &SolverStats| s.steps + s.rejected;
+        let work_start = work(&self.radau.stats);
+        let limit = work_start.saturating_add(max_steps as u64);
+        self.radau.step_limit = limit;
+        let over_limit = |t: f64| {
+            SimError::Solver(SolverError::WorkLimit {
+                t,
+                limit: max_steps,
+            })
+        };
+        // A step over more windows than their index counts exactly is beyond any work limit.
+        if (t_end - t0) / self.window.len > WINDOWS_MAX {
+            return Err(over_limit(t0));
+        }
         let result = (|| {
             while self.radau.t < t_end {
+                if work(&self.radau.stats) >= limit {
+                    return Err(over_limit(self.radau.t));
+                }
                 // Many whole windows ahead with the forcing periodic: skip all but the last
                 // (whose mean is the output) in O(1).
                 let whole = ((t_end - self.radau.t) / self.window.len).floor();
@@ -1310,8 +1332,22 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             }
             Ok(())
         })();
+        // fmi2OK never comes with a non-finite output.
+        let result = result.and_then(|_| {
+            let o = self.outputs();
+            if OutputId::ALL.iter().all(|id| id.get(&o).is_finite()) {
+                Ok(())
+            } else {
+                Err(SimError::Solver(SolverError::NonFinite { t: self.radau.t }))
+            }
+        });
+        self.radau.step_limit = u64::MAX;
         if let Err(e) = result {
             // Leave the simulator as it was before the call.
+            let e = match e {
+                SimError::Solver(SolverError::WorkLimit { t, .. }) => over_limit(t),
+                e => e,
+            };
             (
                 self.radau,
                 self.window,
@@ -1474,37 +1510,118 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         out
     }
 
+    /// Restores a snapshot, which is untrusted input (a serialized state may be crafted): every
+    /// number is checked as the call that set it checks it, and for consistency with the rest;
+    /// the first field that fails is named and nothing changes.
     fn restore(&mut self, state: &[f64]) -> Result<(), SimError> {
+        let bad = |what: String| Err(SimError::BadSnapshot(what));
         if state.len() != Self::SNAPSHOT_LEN {
-            return Err(SimError::BadSnapshot("wrong length"));
+            return bad(format!(
+                "{} numbers, this scene's state has {}",
+                state.len(),
+                Self::SNAPSHOT_LEN
+            ));
         }
         if state[0] != self.config_code() {
-            return Err(SimError::BadSnapshot("taken from another scene"));
+            return bad("taken from another scene (configuration code)".into());
+        }
+        if let Some(k) = state.iter().position(|x| !x.is_finite()) {
+            return bad(format!(
+                "number {k} is {}: every number must be finite",
+                state[k]
+            ));
         }
         let mut params = Params::default();
         for (k, id) in ParamId::ALL.iter().enumerate() {
-            id.set(&mut params, state[1 + k])
-                .map_err(|_| SimError::BadSnapshot("parameter out of range"))?;
+            let value = state[1 + k];
+            super::check_param(*id, value, &self.config)
+                .and_then(|_| id.set(&mut params, value))
+                .or_else(|e| bad(format!("parameter {e}")))?;
         }
-        let mut rest = &state[19..];
+        let mut rest = &state[1 + ParamId::ALL.len()..];
         let mut tracks = [InputTrack::default(); 5];
-        for t in tracks.iter_mut() {
+        for (t, id) in tracks.iter_mut().zip(InputId::ALL) {
             *t = InputTrack {
                 t_ref: rest[0],
                 value: rest[1],
                 slope: rest[2],
             };
             rest = &rest[3..];
+            if id.present(&self.config) && !id.rule().holds(t.value) {
+                return bad(format!(
+                    "input {} = {}: {}",
+                    id.name(),
+                    t.value,
+                    id.rule().text(t.value, id.unit())
+                ));
+            }
+            if t.slope.abs() > MAX_INPUT_RATE {
+                return bad(format!(
+                    "derivative of {} = {}: beyond {MAX_INPUT_RATE:e}",
+                    id.name(),
+                    t.slope
+                ));
+            }
         }
         let x_kin_ref = rest[0];
         let (h_t_ref, h_theta_ref) = (rest[1], rest[2]);
+        if !(0.0..=std::f64::consts::TAU).contains(&h_theta_ref) {
+            return bad(format!(
+                "harmonic phase reference = {h_theta_ref}: must be in [0, 2 pi)"
+            ));
+        }
         let w = &rest[3..9];
         let (rest, step) = rest.split_at(rest.len() - 9);
         let (integrator, exp_h) = rest[9..].split_at(rest.len() - 10);
-        let radau =
-            Radau5::<N>::load(integrator).ok_or(SimError::BadSnapshot("integrator state"))?;
+        let radau = Radau5::<N>::load(integrator)
+            .ok_or(SimError::BadSnapshot("integrator state".into()))?;
+        let (lo, hi) = super::TOLERANCE_RANGE;
+        if !(lo..=hi).contains(&radau.tolerance()) {
+            return bad(format!(
+                "tolerance = {}: must be in [{lo:e}, {hi:e}]",
+                radau.tolerance()
+            ));
+        }
         let mut c = Contact::<V, L, D, N>::new_local(self.config, params, radau.tolerance());
-        (c.epoch, c.t_abs) = (step[7], step[8]);
+        // The averaging window: the length the parameters give, a whole index, the current
+        // time inside the window.
+        let index = w[2];
+        if w[1] != c.window.len {
+            return bad(format!(
+                "window length = {}: the parameters give {}",
+                w[1], c.window.len
+            ));
+        }
+        if !(index >= 0.0 && index.fract() == 0.0 && index <= WINDOWS_MAX) {
+            return bad(format!(
+                "window index = {index}: must be a whole number in [0, {WINDOWS_MAX:e}]"
+            ));
+        }
+        let (w_start, w_end) = (w[0] + index * w[1], w[0] + (index + 1.0) * w[1]);
+        let slack = 1e-9 * w[1] + 4.0 * f64::EPSILON * radau.t.abs();
+        if !(radau.t >= w_start - slack && radau.t <= w_end + slack) {
+            return bad(format!(
+                "time {} outside the averaging window [{w_start}, {w_end}]",
+                radau.t
+            ));
+        }
+        if ![0.0, 1.0].contains(&w[5])
+            || ![0.0, 1.0].contains(&step[0])
+            || ![0.0, 1.0].contains(&step[6])
+        {
+            return bad("a flag is neither 0 nor 1".into());
+        }
+        if exp_h[0] < 0.0 || step[3] < 0.0 {
+            return bad("a step length is negative".into());
+        }
+        let (epoch, t_abs) = (step[7], step[8]);
+        if (t_abs - epoch - radau.t).abs() > 1e-9 * t_abs.abs().max(1.0) {
+            return bad(format!(
+                "time {t_abs} is not the start time {epoch} plus the integrator's time {}",
+                radau.t
+            ));
+        }
+        (c.epoch, c.t_abs) = (epoch, t_abs);
         c.dynamics.tracks = tracks;
         c.dynamics.x_kin_ref = x_kin_ref;
         if let Some(h) = &mut c.dynamics.harmonic {
@@ -1514,7 +1631,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         c.window = Window {
             origin: w[0],
             len: w[1],
-            index: w[2] as u64,
+            index: index as u64,
             acc: w[3],
             last: (w[5] != 0.0).then_some(w[4]),
         };

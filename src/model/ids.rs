@@ -68,6 +68,33 @@ impl InputId {
         }
     }
 
+    /// The accepted range of the input's value: wide for every real use, finite everywhere
+    /// (the normal force that of the parameter `F_N`).
+    pub fn rule(self) -> crate::physics::Rule {
+        use crate::physics::{ParamId, Rule, Sign};
+        match self {
+            InputId::FD => Rule {
+                sign: Sign::Any,
+                min: -1e9,
+                max: 1e9,
+            },
+            InputId::VD | InputId::VSx | InputId::VSy => Rule {
+                sign: Sign::Any,
+                min: -1e3,
+                max: 1e3,
+            },
+            InputId::FN => ParamId::FN.rule(),
+        }
+    }
+
+    /// Unit of the input.
+    pub fn unit(self) -> &'static str {
+        match self {
+            InputId::FD | InputId::FN => "N",
+            InputId::VD | InputId::VSx | InputId::VSy => "m/s",
+        }
+    }
+
     /// True when a scene with this configuration has the input.
     pub fn present(self, c: &Config) -> bool {
         match self {
@@ -198,12 +225,44 @@ impl OutputId {
     }
 }
 
+/// The accepted range of a parameter in this configuration: its physical rule, narrowed where
+/// the configuration's integrator needs it to keep the work per vibration period bounded. A
+/// Dahl exponent below 0.5 under a force or spring drive makes the body and the deformation,
+/// integrated together, take millions of steps per millisecond where the deformation reaches
+/// its bound at a finite distance (the velocity drive takes the closed form for any exponent).
+pub fn param_rule(id: crate::physics::ParamId, c: &Config) -> crate::physics::Rule {
+    let rule = id.rule();
+    if id == crate::physics::ParamId::Kappa && c.drive != Drive::Velocity {
+        crate::physics::Rule { min: 0.5, ..rule }
+    } else {
+        rule
+    }
+}
+
+/// Checks a parameter value against [`param_rule`].
+pub fn check_param(
+    id: crate::physics::ParamId,
+    value: f64,
+    c: &Config,
+) -> Result<(), crate::physics::ParamError> {
+    let rule = param_rule(id, c);
+    if rule.holds(value) {
+        Ok(())
+    } else {
+        Err(crate::physics::ParamError {
+            name: id.name(),
+            value,
+            rule,
+        })
+    }
+}
+
 /// True when a scene with this configuration uses the parameter.
 pub fn param_present(id: crate::physics::ParamId, c: &Config) -> bool {
     use crate::physics::ParamId as P;
     match id {
         P::M => c.body_dynamic() || c.law == Law::LuGre,
-        P::FN | P::Mu | P::KT | P::TAvg => true,
+        P::FN | P::Mu | P::KT | P::TAvg | P::MaxSteps => true,
         P::Kappa => c.law == Law::Dahl && c.motion == Motion::Longitudinal,
         P::RBa => c.law == Law::Dupont,
         P::FS | P::VS | P::ZetaT | P::HV | P::VE => c.law == Law::LuGre,

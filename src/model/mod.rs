@@ -12,6 +12,6 @@ mod ids;
 mod simulator;
 
 pub use config::{Config, Drive, Lateral, Law, Motion};
-pub use contact::canonical_time;
-pub use ids::{param_present, InputId, Inputs, OutputId, Outputs};
-pub use simulator::{build, build_on, Ode, Path, SimError, Simulator, StepStats};
+pub use contact::{canonical_time, MAX_INPUT_RATE};
+pub use ids::{check_param, param_present, param_rule, InputId, Inputs, OutputId, Outputs};
+pub use simulator::{build, build_on, Ode, Path, SimError, Simulator, StepStats, TOLERANCE_RANGE};

@@ -1,6 +1,6 @@
 //! The object-safe face of a contact: what the FMU layer and the tests step.
 
-use super::contact::{boxed, Force, Spring, VelocityFree, VelocityGuided};
+use super::contact::{boxed, Force, Spring, VelocityFree, VelocityGuided, MAX_INPUT_RATE};
 use super::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId, Outputs};
 use crate::physics::{Dahl, Dupont, LuGre, ParamError, ParamId, Params, Planar};
 use crate::solver::SolverError;
@@ -12,14 +12,14 @@ pub enum SimError {
     Param(ParamError),
     /// A parameter that cannot change after initialisation.
     NotTunable(&'static str),
-    /// A NaN or infinite input or derivative.
-    Input { name: &'static str, value: f64 },
+    /// An input out of its range (see [`InputId::rule`]).
+    Input { id: InputId, value: f64 },
+    /// An input derivative that is not finite or beyond [`MAX_INPUT_RATE`].
+    InputDerivative { id: InputId, value: f64 },
     /// An input the configuration does not have.
     NoSuchInput(&'static str),
     /// A parameter that is an input in this configuration (`F_N` with `normal = "input"`).
     NoSuchParam(&'static str),
-    /// A negative normal force.
-    NegativeLoad(f64),
     /// A target time that is not after the current time, or not finite.
     Time { now: f64, target: f64 },
     /// A tolerance that is not finite and > 0.
@@ -27,7 +27,7 @@ pub enum SimError {
     /// The integrator could not reach the target (step size underflow, Newton failure).
     Solver(SolverError),
     /// A saved state that does not belong to this configuration.
-    BadSnapshot(&'static str),
+    BadSnapshot(String),
 }
 
 impl std::fmt::Display for SimError {
@@ -38,7 +38,18 @@ impl std::fmt::Display for SimError {
                 f,
                 "{n}: has variability fixed and cannot change after initialization"
             ),
-            SimError::Input { name, value } => write!(f, "{name} = {value}: must be finite"),
+            SimError::Input { id, value } => write!(
+                f,
+                "{} = {value}: {}",
+                id.name(),
+                id.rule().text(*value, id.unit())
+            ),
+            SimError::InputDerivative { id, value } => write!(
+                f,
+                "derivative of {} = {value}: must be finite and at most {MAX_INPUT_RATE:e} {}/s in magnitude",
+                id.name(),
+                id.unit()
+            ),
             SimError::NoSuchInput(n) => write!(f, "{n}: this scene has no such input"),
             SimError::NoSuchParam(n) => {
                 write!(
@@ -46,10 +57,6 @@ impl std::fmt::Display for SimError {
                     "{n}: an input in this scene (normal = \"input\"), not a parameter"
                 )
             }
-            SimError::NegativeLoad(v) => write!(
-                f,
-                "F_N = {v}: must be >= 0 (a contact cannot pull; 0: the body has lifted off)"
-            ),
             SimError::Time { now, target } => write!(
                 f,
                 "step target time {target} must be finite and later than the current time {now}"
@@ -161,6 +168,11 @@ pub enum Path {
     Radau,
 }
 
+/// The relative tolerances the integrators accept; others are clamped to it. Below 1e-12 the
+/// rounding of the sums dominates (the fast paths floor at 1e-13 and 1e-14 anyway) and Radau's
+/// work grows without bound; above 1e-2 the error estimates no longer describe the error.
+pub const TOLERANCE_RANGE: (f64, f64) = (1e-12, 1e-2);
+
 /// Builds the simulator for a configuration, with the body at rest at the origin, zero
 /// deformation, zero inputs, starting at `t_start` with relative tolerance `tolerance`. It takes
 /// the fastest path the configuration allows.
@@ -183,9 +195,15 @@ pub fn build_on(
     path: Path,
 ) -> Result<Box<dyn Simulator>, SimError> {
     params.validate()?;
+    for id in ParamId::ALL {
+        if super::param_present(id, &config) {
+            super::check_param(id, id.get(&params), &config)?;
+        }
+    }
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(SimError::Tolerance(tolerance));
     }
+    let tolerance = tolerance.clamp(TOLERANCE_RANGE.0, TOLERANCE_RANGE.1);
     if !t_start.is_finite() {
         return Err(SimError::Time {
             now: t_start,

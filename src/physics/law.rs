@@ -379,6 +379,10 @@ impl FrictionLaw for Dupont {
 }
 
 /// LuGre (SPEC §2, Eqs. 2, 4–7).
+/// Lowest `g(v_r)` relative to its largest value (see [`LuGre::g`]): a friction force of a
+/// millionth of the largest is none for any tolerance the integrators resolve.
+const G_FLOOR: f64 = 1e-6;
+
 #[derive(Clone, Copy, Debug)]
 pub struct LuGre {
     k_t: f64,
@@ -391,10 +395,15 @@ pub struct LuGre {
 }
 
 impl LuGre {
-    /// `g(v_r)` of Eq. 5, floored so that a law without friction stays finite.
+    /// `g(v_r)` of Eq. 5, floored at [`G_FLOOR`] of its largest value (and above 0), so that a
+    /// static force far below the Coulomb force (`F_S` = 0), or a Coulomb force far below the
+    /// static one at high sliding speed (`F_N` or `mu` = 0 with `F_S` > 0), does not make the
+    /// relaxation rate `|v_r|/g` unbounded.
     #[inline(always)]
     fn g(&self, vr2: f64) -> f64 {
-        ((self.f_c + (self.f_s - self.f_c) * (-vr2 * self.inv_v_s2).exp()) / self.k_t).max(1e-290)
+        let g = (self.f_c + (self.f_s - self.f_c) * (-vr2 * self.inv_v_s2).exp()) / self.k_t;
+        g.max(G_FLOOR * self.f_c.max(self.f_s) / self.k_t)
+            .max(1e-290)
     }
 }
 

@@ -8,6 +8,6 @@ pub mod trig;
 mod vector;
 
 pub use law::{Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation};
-pub use params::{ParamError, ParamId, Params, Rule};
+pub use params::{ParamError, ParamId, Params, Rule, Sign};
 pub use support::{Harmonic, InputTrack};
 pub use vector::{Planar, Vector};

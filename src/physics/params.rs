@@ -40,6 +40,9 @@ pub struct Params {
     pub c_d: f64,
     /// Averaging window without harmonic source, `T_avg` [s].
     pub t_avg: f64,
+    /// Most integrator steps in one communication step, `max_steps` [1] (like CVODE's
+    /// `mxstep`): a step that needs more stops with an error that says what to do.
+    pub max_steps: f64,
 }
 
 impl Default for Params {
@@ -63,6 +66,7 @@ impl Default for Params {
             k_d: 1e5,
             c_d: 100.0,
             t_avg: 1e-3,
+            max_steps: 1e6,
         }
     }
 }
@@ -88,58 +92,79 @@ pub enum ParamId {
     KD,
     CD,
     TAvg,
+    MaxSteps,
 }
 
-/// The physical range of a parameter.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Rule {
-    /// finite and > 0
+/// What physics forbids outright.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sign {
+    /// > 0
     Positive,
-    /// finite and >= 0
+    /// >= 0
     NonNegative,
-    /// finite
-    Finite,
-    /// finite, >= 0 and < 1
-    UnitInterval,
+    /// any sign
+    Any,
+}
+
+/// The physical range of a parameter: its sign, and the closed interval `[min, max]` the FMU
+/// accepts, wide enough for every real use (grams to tonnes, ultrasonic frequencies, contacts up
+/// to 1e13 N/m) and narrow enough that the work per vibration period stays bounded. `min` and
+/// `max` are the model description's attributes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rule {
+    pub sign: Sign,
+    pub min: f64,
+    pub max: f64,
 }
 
 impl Rule {
+    const fn new(sign: Sign, min: f64, max: f64) -> Rule {
+        Rule { sign, min, max }
+    }
+
     pub fn holds(self, v: f64) -> bool {
-        v.is_finite()
-            && match self {
-                Rule::Positive => v > 0.0,
-                Rule::NonNegative => v >= 0.0,
-                Rule::Finite => true,
-                Rule::UnitInterval => (0.0..1.0).contains(&v),
-            }
+        v.is_finite() && v >= self.min && v <= self.max
     }
-    /// The rule in words, for error messages.
-    pub fn text(self) -> &'static str {
-        match self {
-            Rule::Positive => "must be finite and > 0",
-            Rule::NonNegative => "must be finite and >= 0",
-            Rule::Finite => "must be finite",
-            Rule::UnitInterval => "must be finite, >= 0 and < 1",
+
+    /// The rule broken by `v`, in words: the sign where that is what `v` breaks, else the
+    /// range.
+    pub fn text(self, v: f64, unit: &str) -> String {
+        let unit = if unit == "1" {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
+        let sign = match self.sign {
+            Sign::Positive => "must be finite and > 0",
+            Sign::NonNegative => "must be finite and >= 0",
+            Sign::Any => "must be finite",
+        };
+        let broken_sign = !v.is_finite()
+            || match self.sign {
+                Sign::Positive => v <= 0.0,
+                Sign::NonNegative => v < 0.0,
+                Sign::Any => false,
+            };
+        if broken_sign {
+            format!("{sign} (accepted: {:e} to {:e}{unit})", self.min, self.max)
+        } else {
+            format!("must be in [{:e}, {:e}]{unit}", self.min, self.max)
         }
     }
-    /// Lower bound for the model description's `min` attribute, if the rule has one.
+
+    /// Lower bound for the model description's `min` attribute.
     pub fn min(self) -> Option<f64> {
-        match self {
-            Rule::Positive | Rule::NonNegative | Rule::UnitInterval => Some(0.0),
-            Rule::Finite => None,
-        }
+        Some(self.min)
     }
-    /// Upper bound for the model description's `max` attribute, if the rule has one.
+
+    /// Upper bound for the model description's `max` attribute.
     pub fn max(self) -> Option<f64> {
-        match self {
-            Rule::UnitInterval => Some(1.0),
-            _ => None,
-        }
+        Some(self.max)
     }
 }
 
 impl ParamId {
-    pub const ALL: [ParamId; 18] = [
+    pub const ALL: [ParamId; 19] = [
         ParamId::M,
         ParamId::FN,
         ParamId::Mu,
@@ -158,6 +183,7 @@ impl ParamId {
         ParamId::KD,
         ParamId::CD,
         ParamId::TAvg,
+        ParamId::MaxSteps,
     ];
 
     /// The variable name of SPEC §3.
@@ -181,6 +207,7 @@ impl ParamId {
             ParamId::KD => "k_d",
             ParamId::CD => "c_d",
             ParamId::TAvg => "T_avg",
+            ParamId::MaxSteps => "max_steps",
         }
     }
 
@@ -188,16 +215,26 @@ impl ParamId {
         ParamId::ALL.into_iter().find(|p| p.name() == name)
     }
 
+    /// The accepted range (see [`Rule`]).
     pub fn rule(self) -> Rule {
+        use Sign::*;
         match self {
-            ParamId::M | ParamId::KT | ParamId::Kappa | ParamId::VS | ParamId::VE => Rule::Positive,
-            ParamId::TAvg => Rule::Positive,
-            ParamId::FN | ParamId::Mu | ParamId::FS | ParamId::ZetaT | ParamId::HV => {
-                Rule::NonNegative
-            }
-            ParamId::U0 | ParamId::F | ParamId::KD | ParamId::CD => Rule::NonNegative,
-            ParamId::RBa => Rule::UnitInterval,
-            ParamId::Angle | ParamId::Phase => Rule::Finite,
+            ParamId::M => Rule::new(Positive, 1e-4, 1e6), // 0.1 g to 1000 t
+            ParamId::FN => Rule::new(NonNegative, 0.0, 1e8),
+            ParamId::Mu => Rule::new(NonNegative, 0.0, 10.0),
+            ParamId::KT => Rule::new(Positive, 1e2, 1e13),
+            ParamId::Kappa => Rule::new(Positive, 0.05, 20.0),
+            ParamId::RBa => Rule::new(NonNegative, 0.0, 0.999),
+            ParamId::FS => Rule::new(NonNegative, 0.0, 1e9),
+            ParamId::VS | ParamId::VE => Rule::new(Positive, 1e-9, 1e2),
+            ParamId::ZetaT => Rule::new(NonNegative, 0.0, 1e3),
+            ParamId::HV | ParamId::CD => Rule::new(NonNegative, 0.0, 1e9),
+            ParamId::U0 => Rule::new(NonNegative, 0.0, 0.1),
+            ParamId::F => Rule::new(NonNegative, 0.0, 1e7), // to 10 MHz
+            ParamId::Angle | ParamId::Phase => Rule::new(Any, -1e4, 1e4),
+            ParamId::KD => Rule::new(NonNegative, 0.0, 1e13),
+            ParamId::TAvg => Rule::new(Positive, 1e-9, 1e6),
+            ParamId::MaxSteps => Rule::new(Positive, 1e2, 1e10),
         }
     }
 
@@ -206,7 +243,13 @@ impl ParamId {
     pub fn tunable(self) -> bool {
         matches!(
             self,
-            ParamId::U0 | ParamId::F | ParamId::Angle | ParamId::Phase | ParamId::FN | ParamId::Mu
+            ParamId::U0
+                | ParamId::F
+                | ParamId::Angle
+                | ParamId::Phase
+                | ParamId::FN
+                | ParamId::Mu
+                | ParamId::MaxSteps
         )
     }
 
@@ -215,7 +258,7 @@ impl ParamId {
         match self {
             ParamId::M => "kg",
             ParamId::FN | ParamId::FS => "N",
-            ParamId::Mu | ParamId::Kappa | ParamId::RBa | ParamId::ZetaT => "1",
+            ParamId::Mu | ParamId::Kappa | ParamId::RBa | ParamId::ZetaT | ParamId::MaxSteps => "1",
             ParamId::KT | ParamId::KD => "N/m",
             ParamId::VS | ParamId::VE => "m/s",
             ParamId::HV | ParamId::CD => "N.s/m",
@@ -246,6 +289,7 @@ impl ParamId {
             ParamId::KD => p.k_d,
             ParamId::CD => p.c_d,
             ParamId::TAvg => p.t_avg,
+            ParamId::MaxSteps => p.max_steps,
         }
     }
 
@@ -269,6 +313,7 @@ impl ParamId {
             ParamId::KD => &mut p.k_d,
             ParamId::CD => &mut p.c_d,
             ParamId::TAvg => &mut p.t_avg,
+            ParamId::MaxSteps => &mut p.max_steps,
         }
     }
 
@@ -301,9 +346,17 @@ pub struct ParamError {
     pub rule: Rule,
 }
 
+impl ParamError {
+    /// The rule the value breaks, in words.
+    pub fn rule_text(&self) -> String {
+        let unit = ParamId::from_name(self.name).map_or("1", |p| p.unit());
+        self.rule.text(self.value, unit)
+    }
+}
+
 impl std::fmt::Display for ParamError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} = {:e}: {}", self.name, self.value, self.rule.text())
+        write!(f, "{} = {:e}: {}", self.name, self.value, self.rule_text())
     }
 }
 

@@ -95,6 +95,8 @@ pub enum SolverError {
     StepSizeTooSmall { t: f64, h: f64 },
     /// The right-hand side returned NaN or infinity.
     NonFinite { t: f64 },
+    /// The caller's budget of steps ran out at `t` (`limit` steps).
+    WorkLimit { t: f64, limit: f64 },
 }
 
 impl std::fmt::Display for SolverError {
@@ -106,6 +108,10 @@ impl std::fmt::Display for SolverError {
             SolverError::NonFinite { t } => {
                 write!(f, "right-hand side not finite at t = {t}")
             }
+            SolverError::WorkLimit { t, limit } => write!(
+                f,
+                "more than max_steps = {limit:e} integrator steps in this communication step, at t = {t} since its start: use shorter communication steps, or raise the parameter max_steps"
+            ),
         }
     }
 }
@@ -260,6 +266,9 @@ pub struct Radau5<const N: usize> {
     /// Accepted steps still to take with stage Jacobians after the simplified Newton failed.
     full_left: u32,
     pub stats: SolverStats,
+    /// Attempts (accepted and rejected) after which [`Radau5::integrate_with`] stops with
+    /// [`SolverError::WorkLimit`], counted like `stats` (not part of the saved state).
+    pub step_limit: u64,
 }
 
 impl<const N: usize> Radau5<N> {
@@ -289,6 +298,7 @@ impl<const N: usize> Radau5<N> {
             n_accept: 0,
             full_left: 0,
             stats: SolverStats::default(),
+            step_limit: u64::MAX,
         }
     }
 
@@ -407,6 +417,12 @@ impl<const N: usize> Radau5<N> {
         let mut event_target: Option<(f64, usize)> = None;
 
         while self.t < t_end {
+            if self.stats.steps + self.stats.rejected >= self.step_limit {
+                return Err(SolverError::WorkLimit {
+                    t: self.t,
+                    limit: self.step_limit as f64,
+                });
+            }
             // Choose the step, landing exactly on an event or on t_end.
             let mut h = self.h.min(h_max);
             let mut h_unclipped = h;
