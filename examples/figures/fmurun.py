@@ -1,4 +1,4 @@
-"""One sweep point = one run of an exported FMU through fmpy; plus the Coulomb limits (SPEC §6).
+"""One sweep point = one run of an exported FMU through fmpy; plus the Coulomb limits (`docs/model.md`).
 
 Only fmpy, numpy and scipy are needed here (the pinned test packages of tests/python), so that
 the CI tests (tests/python/test_paper_claims.py) share this kernel without installing the figure
@@ -22,7 +22,7 @@ from scipy.special import ellipk
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 DIST = ROOT / "dist"
 
-F_C_DEFAULT = 0.2 * 55.0  # mu·F_N at the SPEC §3 defaults
+F_C_DEFAULT = 0.2 * 55.0  # mu·F_N at the defaults of docs/model.md
 
 
 def coulomb_longitudinal(psi):

@@ -206,7 +206,7 @@ pub fn summary(
          wrong solution. differential-equations' DOP853 dense output is of lower order than \
          Hairer's (see the peers module), which inflates its `F_Fx` errors; its `F_mean` uses \
          step ends only.\n\
-         - Python (`examples/peers/python_peers.py`): the equations written again from SPEC §2 \
+         - Python (`examples/peers/python_peers.py`): the equations written again from `docs/model.md` \
          in numpy with closed-form Jacobians, integrated by scipy's `solve_ivp` (LSODA, Radau, \
          DOP853) with `t_eval` samples and the same quadrature state; and the FMU itself through \
          `fmpy.simulate_fmu` (tolerance passed to `fmi2SetupExperiment`) at communication \
@@ -271,7 +271,7 @@ pub fn summary(
     if !cross.is_empty() {
         writeln!(
             m,
-            "\nIndependent cross-check: the equations written again in Python (from SPEC §2) and \
+            "\nIndependent cross-check: the equations written again in Python (from `docs/model.md`) and \
              integrated by scipy at its tightest converged tolerance \
              (`reports/crosscheck_python.csv`):\n\n```\n{}```",
             cross
