@@ -435,11 +435,7 @@ fn without_vibration_the_plain_sliding_force_remains() {
         sim.step_to(5e-3).unwrap();
         let o = sim.outputs();
         assert!((o.f_fx - p.f_c()).abs() < 1e-12 * p.f_c());
-        assert!(
-            o.reduction.abs() < 1e-9,
-            "u0 {u0} f {f}: {}",
-            o.reduction
-        );
+        assert!(o.reduction.abs() < 1e-9, "u0 {u0} f {f}: {}", o.reduction);
         // LuGre: the Stribeck curve plus the viscous term.
         p.h_v = 30.0;
         let mut sim = build(longitudinal_velocity(Law::LuGre), p, 0.0, 1e-8).unwrap();
