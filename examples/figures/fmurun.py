@@ -113,7 +113,7 @@ def runner(name, dist=None):
 def f_mean(name, periods=20, tolerance=None, dist=None, output="F_mean", **start):
     """F_mean (N) after `periods` vibration periods of the FMU `name` with the given start values
     (u0, f, v_d, k_t, ...; `f` must be given). One communication step spans all periods.
-    `output` reads another output instead (e.g. "reduction")."""
+    `output` reads another output instead (e.g. "reduction" = 1 - F_mean/F_C)."""
     r = runner(name, dist)
     r.start(start, tolerance)
     status = r.step(0.0, periods / float(start["f"]))
