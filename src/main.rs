@@ -275,13 +275,12 @@ fn find_library(explicit: Option<&Path>) -> Result<(PathBuf, &'static str), Stri
     if mode != Portable::Off {
         match portable_library() {
             Ok(Some(lib)) => return Ok((lib, "cargo-zigbuild")),
-            Ok(None) if mode == Portable::Required => {
-                return Err(format!(
-                    "VIBROFRIC_PORTABLE=1 but cargo-zigbuild was found neither in .venv/bin nor on \
+            Ok(None) if mode == Portable::Required => return Err(
+                "VIBROFRIC_PORTABLE=1 but cargo-zigbuild was found neither in .venv/bin nor on \
                      PATH: `bash tests/all.sh` installs it (with zig) into .venv, or \
                      `pip install ziglang cargo-zigbuild`"
-                ))
-            }
+                    .to_string(),
+            ),
             Ok(None) => {}
             Err(e) if mode == Portable::Required => return Err(e),
             Err(e) => println!("warning: {e}; shipping the host build instead"),

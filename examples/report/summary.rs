@@ -116,7 +116,9 @@ pub fn summary(
         (None, None) => "—".into(),
     };
     // Conclusion first: the ratios at equal error, per error level.
-    let mut ratios: BTreeMap<(usize, String), Vec<(f64, &str, &str)>> = BTreeMap::new();
+    // (measure order, level) -> (ratio, case, fastest peer)
+    type Ratios<'a> = BTreeMap<(usize, String), Vec<(f64, &'a str, &'a str)>>;
+    let mut ratios: Ratios = BTreeMap::new();
     for c in &cmps {
         if let (Some(a), Some(b)) = (c.mine, c.peer) {
             let order = usize::from(c.measure != "F_mean");
