@@ -290,11 +290,15 @@ fn find_library(explicit: Option<&Path>) -> Result<(PathBuf, &'static str), Stri
 }
 
 /// One line on which C library the shipped binary needs.
-fn platform_line(lib: &Path, source: &str) -> Result<(String, Option<String>), String> {
+fn platform_line(lib: &Path, source: &str) -> Result<(String, docs::Binary), String> {
     if !cfg!(target_os = "linux") {
         return Ok((
             format!("binaries/{PLATFORM}: {} ({source})", lib.display()),
-            None,
+            docs::Binary {
+                platform: PLATFORM,
+                glibc: None,
+                libraries: vec![],
+            },
         ));
     }
     let needs = vibrofric::elf::file_needs(lib)?;
@@ -316,7 +320,14 @@ fn platform_line(lib: &Path, source: &str) -> Result<(String, Option<String>), S
              (`bash tests/all.sh` puts it, with zig, into .venv) and export again"
         ));
     }
-    Ok((line, glibc))
+    Ok((
+        line,
+        docs::Binary {
+            platform: PLATFORM,
+            glibc,
+            libraries: needs.libraries,
+        },
+    ))
 }
 
 fn export(
@@ -351,12 +362,8 @@ fn export(
     let (lib_path, source) = find_library(library)?;
     let lib = std::fs::read(&lib_path)
         .map_err(|e| format!("{}: cannot read: {e}", lib_path.display()))?;
-    let (line, glibc) = platform_line(&lib_path, source)?;
+    let (line, binary) = platform_line(&lib_path, source)?;
     println!("{line}");
-    let binary = docs::Binary {
-        platform: PLATFORM,
-        glibc,
-    };
 
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     if let Some(d) = descriptions {

@@ -132,11 +132,16 @@ fn fmu_pages_carry_the_picture_usage_and_platform() {
             &docs::Binary {
                 platform: "linux64",
                 glibc: Some("2.17".into()),
+                libraries: vec!["libc.so.6".into(), "libm.so.6".into()],
             },
         );
         assert!(html.contains(SIGN_CONVENTION_SVG), "{file}");
         assert!(html.contains("output_interval=1e-3"), "{file}");
         assert!(html.contains("glibc 2.17 or newer"), "{file}");
+        assert!(
+            html.contains("It links only <code>libc.so.6</code>, <code>libm.so.6</code>:"),
+            "{file}"
+        );
         assert!(html.contains("<code>T_avg</code>"), "{file}");
         if s.config.law == vibrofric::model::Law::LuGre {
             assert!(html.contains("<code>zeta_t</code> (LuGre)"), "{file}");

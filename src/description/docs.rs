@@ -178,6 +178,8 @@ pub struct Binary {
     pub platform: &'static str,
     /// The oldest glibc that loads the binary (its highest `GLIBC_` symbol version), when known.
     pub glibc: Option<String>,
+    /// The shared libraries it links (`DT_NEEDED`), when known.
+    pub libraries: Vec<String>,
 }
 
 /// How to choose the parameters of this scene: the guidance a user needs before a first run,
@@ -216,10 +218,10 @@ pub fn guidance(scene: &Scene) -> Vec<String> {
         );
     }
     let window = if c.harmonic {
-        "With the harmonic source on (<code>f</code> &gt; 0) the averaging window is its period \
+        "with the harmonic source on (<code>f</code> &gt; 0) the averaging window is its period \
          <code>1/f</code>; <code>T_avg</code> is used only when <code>f</code> = 0."
     } else {
-        "This scene has no harmonic source: the averaging window is <code>T_avg</code>."
+        "this scene has no harmonic source: the averaging window is <code>T_avg</code>."
     };
     let input = if c.input_support {
         " When the support motion comes from the inputs <code>v_sx</code>/<code>v_sy</code>, the \
@@ -330,9 +332,20 @@ fn platform_html(scene: &Scene, binary: &Binary) -> String {
         }
         _ => String::new(),
     };
+    let libraries = if binary.libraries.is_empty() {
+        "the C library and its companions (<code>libc</code>, <code>libm</code>, \
+         <code>libpthread</code>, <code>libdl</code>, <code>libgcc_s</code>)"
+            .to_string()
+    } else {
+        binary
+            .libraries
+            .iter()
+            .map(|l| format!("<code>{}</code>", escape(l)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
     h.push_str(&format!(
-        "<li><code>binaries/{}/{id}.{ext}</code>: {os}{libc}. It links only the C library \
-         (<code>libc</code>, <code>libm</code>, <code>libpthread</code>, <code>libdl</code>); no \
+        "<li><code>binaries/{}/{id}.{ext}</code>: {os}{libc}. It links only {libraries}: no \
          other run-time, no Python, no licence server.</li>\n",
         binary.platform
     ));
@@ -349,6 +362,7 @@ pub fn index_html(scene: &Scene) -> String {
         &Binary {
             platform: "linux64",
             glibc: None,
+            libraries: vec![],
         },
     )
 }
