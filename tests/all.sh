@@ -50,8 +50,17 @@ step "fmi-sim $FMI_SIM_VERSION, a partner FMI importer for tests/python/test_par
 if [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
     echo "building it from crates.io into $fmi_sim_root: done once, about 10 minutes on 2 cores"
     echo "(cargo's progress below: one numbered line per crate compiled)"
+    # A shell loop, not awk: Debian's awk (mawk) reads a pipe in blocks and would hold the lines.
     cargo install fmi-sim --version "=$FMI_SIM_VERSION" --locked --root "$fmi_sim_root" 2>&1 |
-        awk '/^ *Compiling / { n++; printf "  [%3d] %s\n", n, $0; fflush(); next } { print; fflush() }'
+        {
+            n=0
+            while IFS= read -r line; do
+                case "$line" in
+                *Compiling*) n=$((n + 1)) && printf '  [%3d] %s\n' "$n" "$line" ;;
+                *) printf '%s\n' "$line" ;;
+                esac
+            done
+        }
     [ -x "$fmi_sim_root/bin/fmi-sim" ] || { echo "error: fmi-sim was not installed" >&2; exit 1; }
 else
     echo "already built"
