@@ -49,7 +49,7 @@ case "$fmi_sim_root" in /*) ;; *) fmi_sim_root="$PWD/$fmi_sim_root" ;; esac
 step "fmi-sim $FMI_SIM_VERSION, a partner FMI importer for tests/python/test_partners.py"
 if [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
     echo "building it from crates.io into $fmi_sim_root: done once, about 10 minutes on 2 cores"
-    echo "(cargo's progress below: one numbered line per crate compiled)"
+    echo "(about 200 crates; cargo's progress below, one numbered line per crate compiled)"
     # A shell loop, not awk: Debian's awk (mawk) reads a pipe in blocks and would hold the lines.
     cargo install fmi-sim --version "=$FMI_SIM_VERSION" --locked --root "$fmi_sim_root" 2>&1 |
         {
