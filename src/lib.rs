@@ -7,7 +7,8 @@
 //! - [`model`]: a contact as a [`model::Simulator`], specialised at compile time per scene;
 //! - [`description`]: the variable table, scenes, the generated `modelDescription.xml`;
 //! - [`fmi`]: the FMI 2.0 instance state machine and the thin `extern "C"` layer;
-//! - [`importer`]: a small FMI 2.0 Co-Simulation importer (tests and the exporter's self-check).
+//! - [`importer`]: a small FMI 2.0 Co-Simulation importer (tests and the exporter's self-check);
+//! - [`elf`]: the glibc symbol versions a shipped shared library requires.
 //!
 //! `unsafe` code lives only in `fmi::ffi` (the exported C functions) and `importer` (which
 //! calls an FMU's C functions); everything else is safe Rust.
@@ -15,6 +16,7 @@
 
 pub mod cli_simulate;
 pub mod description;
+pub mod elf;
 pub mod fmi;
 #[allow(unsafe_code)]
 pub mod importer;

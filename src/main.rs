@@ -1,4 +1,5 @@
-//! `vibrofric`: exports scenes (SPEC §4) as FMI 2.0 Co-Simulation FMUs.
+//! `vibrofric`: exports scenes (`scenes/*.toml`, described in `docs/scenes.md`) as FMI 2.0
+//! Co-Simulation FMUs.
 //!
 //! - `vibrofric` with no arguments exports every `scenes/*.toml` into `dist/` and runs a one-line
 //!   self-check simulation of each.
@@ -9,6 +10,11 @@
 //! An FMU holds `modelDescription.xml`, `binaries/<platform>/<model_identifier>.<ext>` (a copy of
 //! the one `libvibrofric` cdylib, which reads the scene from `resources/` at instantiation),
 //! `documentation/index.html` and `resources/scene.toml`.
+//!
+//! On x86-64 Linux the shipped library is built for glibc 2.17 by `cargo zigbuild` when
+//! cargo-zigbuild is installed (in `.venv/bin`, where `bash tests/all.sh` puts it, or on `PATH`),
+//! else it is the host build, which needs the host's glibc; the output says which glibc the
+//! FMUs need. `VIBROFRIC_PORTABLE=1` requires the glibc 2.17 build, `=0` ships the host build.
 
 use std::fs::File;
 use std::io::Write;
@@ -132,16 +138,9 @@ fn standard_scenes(dir: &Path) -> Result<Vec<PathBuf>, String> {
     Ok(files)
 }
 
-/// The cdylib to ship: `--library`, else `libvibrofric` in the executable's directory or its
-/// parent (for executables cargo places in `deps/`).
-fn find_library(explicit: Option<&Path>) -> Result<PathBuf, String> {
-    if let Some(p) = explicit {
-        return if p.is_file() {
-            Ok(p.to_path_buf())
-        } else {
-            Err(format!("--library {}: no such file", p.display()))
-        };
-    }
+/// The cdylib cargo built beside this executable: `libvibrofric` in the executable's directory
+/// or its parent (for executables cargo places in `deps/`).
+fn host_library() -> Result<PathBuf, String> {
     let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
     let dir = exe.parent().unwrap_or(Path::new("."));
     let candidates = [Some(dir), dir.parent()];
@@ -155,6 +154,179 @@ fn find_library(explicit: Option<&Path>) -> Result<PathBuf, String> {
         "cannot find {LIB_FILE} next to {}: build it with `cargo build --release` (cargo builds \
          the cdylib beside the binary) or pass --library FILE",
         exe.display()
+    ))
+}
+
+/// The Rust target of the portable Linux build: x86-64, glibc 2.17 symbol versions (RHEL 7,
+/// Ubuntu 18.04 and everything newer), linked by zig through cargo-zigbuild.
+const PORTABLE_TARGET: &str = "x86_64-unknown-linux-gnu.2.17";
+/// The oldest glibc the portable build targets.
+const PORTABLE_GLIBC: &str = "2.17";
+
+/// How the portable build is asked for: `VIBROFRIC_PORTABLE` = `1` (required: fail without
+/// it), `0` (never), unset (when cargo-zigbuild is found).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Portable {
+    Auto,
+    Required,
+    Off,
+}
+
+fn portable_mode() -> Result<Portable, String> {
+    match std::env::var("VIBROFRIC_PORTABLE").as_deref() {
+        Err(_) | Ok("") => Ok(Portable::Auto),
+        Ok("1") => Ok(Portable::Required),
+        Ok("0") => Ok(Portable::Off),
+        Ok(other) => Err(format!(
+            "VIBROFRIC_PORTABLE = {other:?}: must be 1 (require the glibc {PORTABLE_GLIBC} build), \
+             0 (ship the host build) or unset (the glibc {PORTABLE_GLIBC} build when cargo-zigbuild is found)"
+        )),
+    }
+}
+
+/// `PATH` with the project's `.venv/bin` first (where `bash tests/all.sh` installs cargo-zigbuild
+/// and zig), and the directory of `cargo-zigbuild` when found on it.
+fn zigbuild_path() -> (std::ffi::OsString, Option<PathBuf>) {
+    let venv_bin = std::env::current_dir()
+        .map(|d| d.join(".venv").join("bin"))
+        .unwrap_or_else(|_| PathBuf::from(".venv/bin"));
+    let mut dirs = vec![venv_bin];
+    if let Some(p) = std::env::var_os("PATH") {
+        dirs.extend(std::env::split_paths(&p));
+    }
+    let found = dirs
+        .iter()
+        .map(|d| d.join("cargo-zigbuild"))
+        .find(|p| p.is_file());
+    let path = std::env::join_paths(&dirs).unwrap_or_default();
+    (path, found)
+}
+
+/// Builds the cdylib for glibc 2.17 with `cargo zigbuild` into the same target directory as this
+/// executable, and returns it. `Ok(None)` when cargo-zigbuild is not installed (the caller ships
+/// the host build and says which glibc it needs).
+fn portable_library() -> Result<Option<PathBuf>, String> {
+    if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {
+        return Ok(None);
+    }
+    let (path, zigbuild) = zigbuild_path();
+    if zigbuild.is_none() {
+        return Ok(None);
+    }
+    // <target>/release/vibrofric: the target directory is two levels up.
+    let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
+    let target_dir = exe
+        .parent()
+        .filter(|d| d.file_name().is_some_and(|n| n == "release"))
+        .and_then(Path::parent)
+        .ok_or_else(|| {
+            format!(
+                "{} is not in a cargo target directory's release/: build with `cargo run --release`",
+                exe.display()
+            )
+        })?;
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    println!(
+        "building the FMU binary for glibc >= {PORTABLE_GLIBC} with cargo-zigbuild \
+         (target {PORTABLE_TARGET}; the first build takes about as long as `cargo build --release`)"
+    );
+    let status = std::process::Command::new(&cargo)
+        .env("PATH", &path)
+        .args([
+            "zigbuild",
+            "--release",
+            "--lib",
+            "--target",
+            PORTABLE_TARGET,
+        ])
+        .arg("--manifest-path")
+        .arg(&manifest)
+        .arg("--target-dir")
+        .arg(target_dir)
+        .status()
+        .map_err(|e| format!("cannot run {}: {e}", cargo.to_string_lossy()))?;
+    if !status.success() {
+        return Err(format!(
+            "`cargo zigbuild --release --lib --target {PORTABLE_TARGET}` failed ({status})"
+        ));
+    }
+    let lib = target_dir
+        .join("x86_64-unknown-linux-gnu")
+        .join("release")
+        .join(LIB_FILE);
+    if !lib.is_file() {
+        return Err(format!("cargo zigbuild did not write {}", lib.display()));
+    }
+    Ok(Some(lib))
+}
+
+/// The cdylib to ship, and a line saying where it comes from: `--library`, else the glibc 2.17
+/// build when cargo-zigbuild is available (see [`Portable`]), else the host build.
+fn find_library(explicit: Option<&Path>) -> Result<(PathBuf, &'static str), String> {
+    if let Some(p) = explicit {
+        return if p.is_file() {
+            Ok((p.to_path_buf(), "--library"))
+        } else {
+            Err(format!("--library {}: no such file", p.display()))
+        };
+    }
+    let mode = portable_mode()?;
+    if mode != Portable::Off {
+        match portable_library() {
+            Ok(Some(lib)) => return Ok((lib, "cargo-zigbuild")),
+            Ok(None) if mode == Portable::Required => return Err(
+                "VIBROFRIC_PORTABLE=1 but cargo-zigbuild was found neither in .venv/bin nor on \
+                     PATH: `bash tests/all.sh` installs it (with zig) into .venv, or \
+                     `pip install ziglang cargo-zigbuild`"
+                    .to_string(),
+            ),
+            Ok(None) => {}
+            Err(e) if mode == Portable::Required => return Err(e),
+            Err(e) => println!("warning: {e}; shipping the host build instead"),
+        }
+    }
+    Ok((host_library()?, "host toolchain"))
+}
+
+/// One line on which C library the shipped binary needs.
+fn platform_line(lib: &Path, source: &str) -> Result<(String, docs::Binary), String> {
+    if !cfg!(target_os = "linux") {
+        return Ok((
+            format!("binaries/{PLATFORM}: {} ({source})", lib.display()),
+            docs::Binary {
+                platform: PLATFORM,
+                glibc: None,
+                libraries: vec![],
+            },
+        ));
+    }
+    let needs = vibrofric::elf::file_needs(lib)?;
+    let glibc = needs.max_glibc().map(|v| v.to_string());
+    let need = glibc
+        .as_deref()
+        .map_or("no versioned glibc symbol".to_string(), |v| {
+            format!("needs glibc >= {v}")
+        });
+    let mut line = format!("binaries/{PLATFORM}: {} ({source}): {need}", lib.display());
+    if source == "cargo-zigbuild" {
+        line.push_str(&format!(
+            " (built for glibc {PORTABLE_GLIBC}: RHEL 7/8, Ubuntu 18.04/20.04 and newer)"
+        ));
+    }
+    if source == "host toolchain" {
+        line.push_str(&format!(
+            "; for glibc >= {PORTABLE_GLIBC} (RHEL 7/8, Ubuntu 18.04/20.04) install cargo-zigbuild \
+             (`bash tests/all.sh` puts it, with zig, into .venv) and export again"
+        ));
+    }
+    Ok((
+        line,
+        docs::Binary {
+            platform: PLATFORM,
+            glibc,
+            libraries: needs.libraries,
+        },
     ))
 }
 
@@ -187,9 +359,11 @@ fn export(
         }
         scenes.push((f.clone(), s));
     }
-    let lib_path = find_library(library)?;
+    let (lib_path, source) = find_library(library)?;
     let lib = std::fs::read(&lib_path)
         .map_err(|e| format!("{}: cannot read: {e}", lib_path.display()))?;
+    let (line, binary) = platform_line(&lib_path, source)?;
+    println!("{line}");
 
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     if let Some(d) = descriptions {
@@ -198,7 +372,7 @@ fn export(
     for (file, scene) in &scenes {
         let fmu = out.join(format!("{}.fmu", scene.model_identifier));
         let description = xml::model_description(scene);
-        write_fmu(&fmu, scene, &description, &lib)?;
+        write_fmu(&fmu, scene, &description, &lib, &binary)?;
         let n_vars = scene.variables().count();
         let n_out = scene
             .variables()
@@ -229,7 +403,13 @@ fn export(
 
 /// Writes the FMU archive (to a temporary name first, so that a failed export leaves no
 /// half-written FMU behind).
-fn write_fmu(path: &Path, scene: &Scene, description: &str, lib: &[u8]) -> Result<(), String> {
+fn write_fmu(
+    path: &Path,
+    scene: &Scene,
+    description: &str,
+    lib: &[u8],
+    binary: &docs::Binary,
+) -> Result<(), String> {
     let tmp = path.with_extension("fmu.partial");
     let io = |e: std::io::Error| format!("{}: {e}", tmp.display());
     let zerr = |e: zip::result::ZipError| format!("{}: {e}", tmp.display());
@@ -241,7 +421,7 @@ fn write_fmu(path: &Path, scene: &Scene, description: &str, lib: &[u8]) -> Resul
         .last_modified_time(DateTime::default())
         .unix_permissions(0o644);
     let id = &scene.model_identifier;
-    let doc = docs::index_html(scene);
+    let doc = docs::index_html_for(scene, binary);
     let entries: [(String, &[u8], u32); 4] = [
         ("modelDescription.xml".into(), description.as_bytes(), 0o644),
         (format!("binaries/{PLATFORM}/{id}.{LIB_EXT}"), lib, 0o755),

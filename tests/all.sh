@@ -1,16 +1,44 @@
 #!/usr/bin/env bash
-# The one test command: builds, exports dist/ (with the exporter's self-check), runs the Rust
-# tests, then the fmpy tests in tests/python against dist/.
+# The one test command: checks the toolchain, makes the Python environment, builds, exports dist/
+# (for glibc 2.17, with the exporter's self-check), runs the Rust tests, then the fmpy tests in
+# tests/python against dist/. Each step says what it does and how long it takes; the first run
+# on a fresh clone takes about 20 minutes on 2 cores (fmi-sim's build is half of it), later runs
+# about 7.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# Python environment with the pinned test packages (fmpy and the partner importers libcosimpy
-# and ecospy), (re)made when the pins change.
-reqs=(tests/python/requirements.txt tests/python/requirements-partners.txt)
+step_no=0
+step() {
+    step_no=$((step_no + 1))
+    echo
+    echo "==> [$step_no/7] $* (at $((SECONDS / 60))m$((SECONDS % 60))s)"
+}
+
+# Rust: cargo must be at least Cargo.toml's rust-version (Debian's cargo 1.63 is not).
+need=$(sed -n 's/^rust-version *= *"\([0-9.]*\)".*/\1/p' Cargo.toml)
+step "Rust toolchain: cargo >= $need"
+have=$(cargo --version 2>/dev/null | sed -n 's/^cargo \([0-9][0-9.]*\).*/\1/p' || true)
+if [ -z "$have" ] || [ "$(printf '%s\n%s\n' "$need" "$have" | sort -V | head -1)" != "$need" ]; then
+    echo "error: vibrofric needs Rust >= $need; found ${have:-no cargo}." >&2
+    echo "Install it with rustup (https://rustup.rs): curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh" >&2
+    echo "or, where rustup is installed: rustup update stable. Distribution packages are often too old." >&2
+    exit 1
+fi
+echo "cargo $have"
+
+# Python environment with the pinned packages: fmpy and the test tools, the partner importers
+# libcosimpy and ecospy, and zig + cargo-zigbuild for the portable build; (re)made when the pins
+# change.
+reqs=(tests/python/requirements.txt tests/python/requirements-partners.txt tests/python/requirements-build.txt)
+step "Python environment .venv (fmpy, pytest, numpy, scipy, libcosimpy, ecospy, ziglang, cargo-zigbuild)"
 if [ ! -x .venv/bin/python ] || ! cat "${reqs[@]}" | cmp -s - .venv/.requirements; then
+    echo "installing the pinned packages of ${reqs[*]} from PyPI (about 250 MB download, 1-2 min)"
     "${PYTHON:-python3}" -m venv .venv
-    .venv/bin/python -m pip install --quiet --disable-pip-version-check "${reqs[@]/#/-r}"
+    .venv/bin/python -m pip install --disable-pip-version-check --progress-bar off "${reqs[@]/#/-r}"
+    .venv/bin/python -c 'import fmpy, libcosimpy, ecospy, ziglang' # fail here if pip did not install them
     cat "${reqs[@]}" >.venv/.requirements
+else
+    echo "up to date (pins unchanged)"
 fi
 
 # fmi-sim, the partner importer from crates.io, pinned; built once into target/partners (its
@@ -18,12 +46,38 @@ fi
 FMI_SIM_VERSION=0.7.0
 fmi_sim_root="${CARGO_TARGET_DIR:-target}/partners/fmi-sim-$FMI_SIM_VERSION"
 case "$fmi_sim_root" in /*) ;; *) fmi_sim_root="$PWD/$fmi_sim_root" ;; esac
+step "fmi-sim $FMI_SIM_VERSION, a partner FMI importer for tests/python/test_partners.py"
 if [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
-    cargo install fmi-sim --version "=$FMI_SIM_VERSION" --locked --quiet --root "$fmi_sim_root"
+    echo "building it from crates.io into $fmi_sim_root: done once, about 10 minutes on 2 cores"
+    echo "(about 200 crates; cargo's progress below, one numbered line per crate compiled)"
+    # A shell loop, not awk: Debian's awk (mawk) reads a pipe in blocks and would hold the lines.
+    cargo install fmi-sim --version "=$FMI_SIM_VERSION" --locked --root "$fmi_sim_root" 2>&1 |
+        {
+            n=0
+            while IFS= read -r line; do
+                case "$line" in
+                *Compiling*) n=$((n + 1)) && printf '  [%3d] %s\n' "$n" "$line" ;;
+                *) printf '%s\n' "$line" ;;
+                esac
+            done
+        }
+    [ -x "$fmi_sim_root/bin/fmi-sim" ] || { echo "error: fmi-sim was not installed" >&2; exit 1; }
+else
+    echo "already built"
 fi
 export FMI_SIM="$fmi_sim_root/bin/fmi-sim"
 
+step "cargo build --release (library, exporter, examples)"
 cargo build --release --lib --bins --examples
-cargo run --release
+
+# VIBROFRIC_PORTABLE=1: the exporter must build the shipped library for glibc 2.17 with the
+# cargo-zigbuild of .venv (docs/platforms.md), so the tests below check portable binaries.
+step "cargo run --release: export dist/*.fmu for glibc 2.17 (cargo-zigbuild) and self-check"
+VIBROFRIC_PORTABLE=1 cargo run --release
+
+step "cargo test --release"
 cargo test --release
+
+step "fmpy tests (tests/python)"
 .venv/bin/python -m pytest tests/python -q -rA -p no:cacheprovider
+echo "all tests passed in $((SECONDS / 60))m$((SECONDS % 60))s"

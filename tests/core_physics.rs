@@ -1,4 +1,4 @@
-//! The contact core against truth it did not produce: Coulomb limits (SPEC §6), the exact
+//! The contact core against truth it did not produce: Coulomb limits (`docs/model.md`), the exact
 //! solution of longitudinal Dahl, reference Runge–Kutta integrations written here, invariants,
 //! and the paper's qualitative claims.
 
@@ -60,10 +60,11 @@ fn coulomb_limits_are_reached_by_a_stiff_contact() {
             1e-8,
         );
         let lim = coulomb_longitudinal(psi);
+        // reduction = 1 − F_mean/F_C; the limits are F_mean/F_C.
         assert!(
-            (long.reduction - lim).abs() <= 1e-3 * lim,
+            ((1.0 - long.reduction) - lim).abs() <= 1e-3 * lim,
             "longitudinal psi {psi}: {} vs {lim}",
-            long.reduction
+            1.0 - long.reduction
         );
         let mut q = p;
         transverse(&mut q);
@@ -76,9 +77,9 @@ fn coulomb_limits_are_reached_by_a_stiff_contact() {
         );
         let lim = coulomb_transverse(psi);
         assert!(
-            (tr.reduction - lim).abs() <= 1e-3 * lim,
+            ((1.0 - tr.reduction) - lim).abs() <= 1e-3 * lim,
             "transverse psi {psi}: {} vs {lim}",
-            tr.reduction
+            1.0 - tr.reduction
         );
     }
 }
@@ -98,7 +99,7 @@ fn mean_force_approaches_coulomb_limit_monotonically_as_stiffness_grows() {
                 10.0,
                 1e-9,
             );
-            let e = (long.reduction - coulomb_longitudinal(psi)).abs();
+            let e = ((1.0 - long.reduction) - coulomb_longitudinal(psi)).abs();
             assert!(
                 e < prev_long,
                 "longitudinal psi {psi} k_t {k_t}: {e} !< {prev_long}"
@@ -112,7 +113,7 @@ fn mean_force_approaches_coulomb_limit_monotonically_as_stiffness_grows() {
                 10.0,
                 1e-9,
             );
-            let e = (tr.reduction - coulomb_transverse(psi)).abs();
+            let e = ((1.0 - tr.reduction) - coulomb_transverse(psi)).abs();
             assert!(
                 e < prev_tr,
                 "transverse psi {psi} k_t {k_t}: {e} !< {prev_tr}"
@@ -279,7 +280,7 @@ fn lugre_velocity_drive_matches_reference_runge_kutta() {
     );
 }
 
-/// Steps a simulator with communication step `dt` and checks the SPEC §6 invariants at each point.
+/// Steps a simulator with communication step `dt` and checks the invariants of `docs/model.md` at each point.
 fn check_invariants(sim: &mut dyn Simulator, s_ss: f64, dt: f64, n: usize) {
     for k in 1..=n {
         sim.step_to(k as f64 * dt).unwrap();
@@ -336,25 +337,26 @@ fn paper_claims_hold() {
     for psi in [1.0, 1.2, 2.0] {
         let o = run_velocity(longitudinal_velocity(Law::Dahl), p, psi * v_a, 40.0, 1e-8);
         assert!(
-            (o.reduction - 1.0).abs() < 1e-6,
+            o.reduction.abs() < 1e-6,
             "psi {psi}: reduction {}",
             o.reduction
         );
     }
     // Transverse reduction at any amplitude, growing with the amplitude.
-    let mut prev = 1.0;
+    let mut prev = 0.0;
     for u0 in [2e-9, 2e-8, 2e-7, 2e-6] {
         let mut q = p;
         q.u0 = u0;
         transverse(&mut q);
         let o = run_velocity(transverse_velocity(Lateral::Free), q, 1e-3, 40.0, 1e-8);
-        assert!(o.reduction < prev, "u0 {u0}: {} !< {prev}", o.reduction);
+        assert!(o.reduction > prev, "u0 {u0}: {} !> {prev}", o.reduction);
         prev = o.reduction;
     }
-    assert!(prev < 1.0);
+    assert!(prev > 0.0);
     // Above the threshold, longitudinal reduction exceeds transverse. Near the threshold this
     // needs a contact stiff against the amplitude: at the default u0·k_t/F_C = 1.8 and psi = 0.8
-    // the elastic contact gives 0.856 longitudinal against 0.761 transverse.
+    // the elastic contact gives F_mean/F_C = 0.856 longitudinal against 0.761 transverse
+    // (reduction 0.144 against 0.239).
     for (psi, k_t) in [(0.2, 1e8), (0.5, 1e8), (0.8, 1e10)] {
         let mut p = p;
         p.k_t = k_t;
@@ -363,8 +365,8 @@ fn paper_claims_hold() {
         transverse(&mut q);
         let tr = run_velocity(transverse_velocity(Lateral::Free), q, psi * v_a, 40.0, 1e-8);
         assert!(
-            long.reduction < tr.reduction,
-            "psi {psi}: {} !< {}",
+            long.reduction > tr.reduction,
+            "psi {psi}: {} !> {}",
             long.reduction,
             tr.reduction
         );
@@ -409,7 +411,7 @@ fn zero_load_or_zero_friction_gives_zero_friction_without_nan() {
                 let o = sim.outputs();
                 assert_eq!(o.f_fx, 0.0, "{law:?} F_N {f_n} mu {mu}: {o:?}");
                 assert_eq!(o.f_mean, 0.0);
-                assert_eq!(o.reduction, 1.0);
+                assert_eq!(o.reduction, 0.0);
                 assert!(o.x.is_finite() && o.v_x.is_finite() && o.p_diss == 0.0);
             }
         }
@@ -434,11 +436,7 @@ fn without_vibration_the_plain_sliding_force_remains() {
         sim.step_to(5e-3).unwrap();
         let o = sim.outputs();
         assert!((o.f_fx - p.f_c()).abs() < 1e-12 * p.f_c());
-        assert!(
-            (o.reduction - 1.0).abs() < 1e-9,
-            "u0 {u0} f {f}: {}",
-            o.reduction
-        );
+        assert!(o.reduction.abs() < 1e-9, "u0 {u0} f {f}: {}", o.reduction);
         // LuGre: the Stribeck curve plus the viscous term.
         p.h_v = 30.0;
         let mut sim = build(longitudinal_velocity(Law::LuGre), p, 0.0, 1e-8).unwrap();
@@ -558,7 +556,7 @@ fn dahl_with_exponent_matches_reference_runge_kutta() {
         let mut p = Params::default();
         p.kappa = kappa;
         let (s_ss, k_t) = (p.f_c() / p.k_t, p.k_t);
-        // ds/dt = v_r·|w|^kappa·sgn(w), w = 1 − sgn(v_r)·s/s_ss (SPEC §2)
+        // ds/dt = v_r·|w|^kappa·sgn(w), w = 1 − sgn(v_r)·s/s_ss (`docs/model.md`)
         let rate = move |s: f64, vr: f64| {
             let w = 1.0 - vr.signum() * s / s_ss;
             vr * w.abs().powf(kappa) * w.signum()
@@ -623,7 +621,7 @@ fn planar_dupont_force_drive_follows_reference_at_tight_tolerances() {
     let s_ba = p.r_ba * s_ss;
     let (v_a, w, m, k_t) = (p.v_a(), p.omega(), p.m, p.k_t);
     // Dupont, Hayward, Armstrong, Altpeter (2002): alpha from |s|, zero when s and v_r point
-    // apart; the planar form with the Euclidean norm (SPEC §2).
+    // apart; the planar form with the Euclidean norm (`docs/model.md`).
     let alpha = move |s: [f64; 2], vr: [f64; 2]| {
         let z = s[0].hypot(s[1]);
         if s[0] * vr[0] + s[1] * vr[1] <= 0.0 || z <= s_ba {

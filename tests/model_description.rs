@@ -624,7 +624,7 @@ fn start_values_follow_the_scene() {
     let start = |n: &str| p.vars.iter().find(|v| v.name == n).unwrap().start;
     assert_eq!(start("angle"), Some(std::f64::consts::FRAC_PI_2));
     assert_eq!(start("k_t"), Some(1e8));
-    assert_eq!(start("v_d"), Some(1e-3), "SPEC §3 default of v_d");
+    assert_eq!(start("v_d"), Some(1e-3), "the documented default of v_d");
     assert_eq!(start("F_Fx"), None);
 }
 

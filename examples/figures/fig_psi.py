@@ -3,7 +3,7 @@
 Fig. 5 (fig05_psi_fixed_vd.png): fixed driving velocity v_d, the vibration velocity amplitude v_a
 varied through u0 at f = 2000 Hz. Fig. 6 (fig06_psi_fixed_va.png): fixed v_a (u0 at 2000 Hz),
 v_d varied. Solid: PaperLongitudinal / PaperTransverse (lateral free, the paper's Eq. 10);
-dotted: PaperTransverseGuided; black dashed: the rigid-contact (Coulomb) limits of SPEC §6.
+dotted: PaperTransverseGuided; black dashed: the rigid-contact (Coulomb) limits (`docs/model.md`).
 
     .venv/bin/python examples/figures/fig_psi.py [--n 60] [--scheduler ADDRESS]
 """

@@ -3,7 +3,7 @@
 Fig. 7 (fig07_surface_va_vd.png): over (v_a, v_d) at f = 2000 Hz (v_a = 2 pi f u0).
 Fig. 10 (fig10_surface_u0_f.png): over (u0, f) at v_d = 1 mm/s.
 Coloured surface: PaperLongitudinal / PaperTransverse (lateral free); black wireframe: the
-rigid-contact (Coulomb) limit of SPEC §6 (guided, for the transverse side). Default grid 50 x 50
+rigid-contact (Coulomb) limit (`docs/model.md`) (guided, for the transverse side). Default grid 50 x 50
 per side (5000 FMU runs per figure).
 
     .venv/bin/python examples/figures/fig_surfaces.py [--n 50] [--scheduler ADDRESS]

@@ -2,7 +2,7 @@
 longitudinal and transverse side by side.
 
 Fig. 8 (fig08_vs_u0.png), Fig. 9 (fig09_vs_f.png). Solid: PaperLongitudinal / PaperTransverse
-(lateral free); dashed, same colour: the rigid-contact (Coulomb) limit of SPEC §6 at the same
+(lateral free); dashed, same colour: the rigid-contact (Coulomb) limit (`docs/model.md`) at the same
 (u0, f) (guided, on the transverse side); the grey vertical marks of the longitudinal side are the
 thresholds v_a = v_d (Eq. 12).
 

@@ -1,4 +1,4 @@
-"""One sweep point = one run of an exported FMU through fmpy; plus the Coulomb limits (SPEC §6).
+"""One sweep point = one run of an exported FMU through fmpy; plus the Coulomb limits (`docs/model.md`).
 
 Only fmpy, numpy and scipy are needed here (the pinned test packages of tests/python), so that
 the CI tests (tests/python/test_paper_claims.py) share this kernel without installing the figure
@@ -22,7 +22,7 @@ from scipy.special import ellipk
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 DIST = ROOT / "dist"
 
-F_C_DEFAULT = 0.2 * 55.0  # mu·F_N at the SPEC §3 defaults
+F_C_DEFAULT = 0.2 * 55.0  # mu·F_N at the defaults of docs/model.md
 
 
 def coulomb_longitudinal(psi):
@@ -113,7 +113,7 @@ def runner(name, dist=None):
 def f_mean(name, periods=20, tolerance=None, dist=None, output="F_mean", **start):
     """F_mean (N) after `periods` vibration periods of the FMU `name` with the given start values
     (u0, f, v_d, k_t, ...; `f` must be given). One communication step spans all periods.
-    `output` reads another output instead (e.g. "reduction")."""
+    `output` reads another output instead (e.g. "reduction" = 1 - F_mean/F_C)."""
     r = runner(name, dist)
     r.start(start, tolerance)
     status = r.step(0.0, periods / float(start["f"]))

@@ -1,5 +1,5 @@
 """Python peers of the work-precision report: scipy's solve_ivp (LSODA, Radau, DOP853) on an
-independent Python implementation of the equations of SPEC §2, and the vibrofric FMU itself
+independent Python implementation of the equations of `docs/model.md`, and the vibrofric FMU itself
 driven by fmpy, on the cases of reports/cases.json (written by `cargo run --release --example
 report -- --cases-only`).
 
@@ -12,7 +12,7 @@ Writes OUT/peers_python.csv with the columns
 and OUT/crosscheck_python.csv (the tightest converged Radau/LSODA run of each case against the
 truth and against the FMU).
 
-Equations (written from SPEC §2, not from the Rust code, so that they check it):
+Equations (written from `docs/model.md`, not from the Rust code, so that they check it):
   state [s (1 or 2) | body | Q]: velocity drive, longitudinal or planar guided: no body state
   (x = v_d·t, y = 0); velocity drive, lateral free: [s_x, s_y, y, v_y]; force drive: [s, x, v_x]
   (longitudinal) or [s_x, s_y, x, y, v_x, v_y] (planar). Q' = F_Fx is appended so that the mean
@@ -84,7 +84,7 @@ def _gauss(x):
 
 
 # ----------------------------------------------------------------------------------------------
-# The equations (SPEC §2)
+# The equations (`docs/model.md`)
 # ----------------------------------------------------------------------------------------------
 
 class Model:

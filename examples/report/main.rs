@@ -8,13 +8,21 @@
 //! cargo run --release --example report -- --skip-python  # reuse reports/peers_python.csv
 //! cargo run --release --example report -- --only paper-longitudinal
 //! cargo run --release --example report -- --out DIR   # write to DIR instead of reports/
+//! cargo run --release --example report -- --from-csv  # re-render from the last measurement
 //! ```
+//!
+//! `--from-csv` measures nothing: it re-renders `work_precision.md` and the plots from
+//! `work_precision.csv` (vibrofric and the Rust peers), `peers_python.csv` (the Python peers)
+//! and `work_precision.toml` (the truths, the targets and where the measurement ran), as the
+//! last full run left them, in seconds instead of 25 minutes.
 //!
 //! Writes to `reports/`:
 //! - `cases.json` and `truth/<case>.csv`: the cases and their reference solutions, read by the
 //!   Python peers (`examples/peers/python_peers.py`, scipy and the FMU through fmpy);
 //! - `work_precision.csv`: every measurement (vibrofric, the Rust peers, the Python peers);
-//! - `work_precision/<case>.svg`: error against CPU time, log–log, one plot per case;
+//! - `work_precision/<case>.svg` and `.png`: error against CPU time, log–log, one plot per case;
+//! - `work_precision.toml`: the truths, the targets and the measurement's commit and machine,
+//!   for `--from-csv`;
 //! - `work_precision.md`: the summary with the truths' own errors, the ratios of run times at
 //!   equal error, and the targets.
 //!
@@ -51,6 +59,7 @@ struct Options {
     quick: bool,
     cases_only: bool,
     skip_python: bool,
+    from_csv: bool,
     only: Option<String>,
     budget_s: f64,
     out: PathBuf,
@@ -68,6 +77,7 @@ fn options() -> Options {
             "--quick" => o.quick = true,
             "--cases-only" => o.cases_only = true,
             "--skip-python" => o.skip_python = true,
+            "--from-csv" => o.from_csv = true,
             "--only" => o.only = args.next(),
             "--out" => o.out = PathBuf::from(args.next().expect("--out <directory>")),
             "--budget" => {
@@ -555,8 +565,241 @@ fn read_rows(path: &Path) -> Vec<Row> {
         .unwrap_or_default()
 }
 
+/// Where and how the measurement ran, and where the report was rendered.
+pub struct Provenance {
+    pub measured_at: String,
+    pub cores: usize,
+    pub arch: String,
+    /// The commit of a `--from-csv` rendering.
+    pub rendered_at: Option<String>,
+    /// Whether the Python peers ran and why not.
+    pub python: Result<(), String>,
+}
+
+fn git_commit() -> String {
+    std::process::Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .output()
+        .ok()
+        .and_then(|out| String::from_utf8(out.stdout).ok())
+        .map(|s| s.trim().to_string())
+        .unwrap_or_default()
+}
+
+/// `work_precision.toml`: what `--from-csv` needs besides the CSVs.
+#[derive(serde::Deserialize)]
+struct Meta {
+    commit: String,
+    cores: usize,
+    arch: String,
+    /// Empty when the Python peers ran cleanly, else why not.
+    python: String,
+    truth: Vec<MetaTruth>,
+    sweep: Vec<MetaSweep>,
+    stiffness: Vec<MetaStiffness>,
+}
+
+#[derive(serde::Deserialize)]
+struct MetaTruth {
+    case: String,
+    f_mean: f64,
+    f_mean_err: f64,
+    ffx_err: f64,
+    method: String,
+}
+
+#[derive(serde::Deserialize)]
+struct MetaSweep {
+    tol: f64,
+    error: f64,
+    seconds: f64,
+}
+
+#[derive(serde::Deserialize)]
+struct MetaStiffness {
+    k_t: f64,
+    tol: f64,
+    seconds: f64,
+    error: f64,
+    /// Time over the time at k_t = 1e8 and the same tolerance, as measured (not re-derived
+    /// from rounded seconds).
+    ratio: f64,
+}
+
+fn write_meta(path: &Path, p: &Provenance, cases: &[Case], truths: &[Truth], targets: &Targets) {
+    let mut t = String::from(
+        "# Written by `cargo run --release --example report`; read by `-- --from-csv`.\n",
+    );
+    writeln!(
+        t,
+        "commit = {:?}\ncores = {}\narch = {:?}",
+        p.measured_at, p.cores, p.arch
+    )
+    .unwrap();
+    writeln!(
+        t,
+        "python = {:?}",
+        p.python.as_ref().err().cloned().unwrap_or_default()
+    )
+    .unwrap();
+    for (c, tr) in cases.iter().zip(truths) {
+        writeln!(
+            t,
+            "\n[[truth]]\ncase = {:?}\nf_mean = {:e}\nf_mean_err = {:e}\nffx_err = {:e}\nmethod = {:?}",
+            c.name, tr.f_mean, tr.f_mean_err, tr.ffx_err, tr.method
+        )
+        .unwrap();
+    }
+    for (tol, e, s) in &targets.sweep {
+        writeln!(
+            t,
+            "\n[[sweep]]\ntol = {tol:e}\nerror = {e:e}\nseconds = {s:e}"
+        )
+        .unwrap();
+    }
+    for &(k_t, tol, s, e) in &targets.stiffness {
+        let base = targets
+            .stiffness
+            .iter()
+            .find(|x| x.0 == 1e8 && x.1 == tol)
+            .map_or(f64::NAN, |x| x.2);
+        writeln!(
+            t,
+            "\n[[stiffness]]\nk_t = {k_t:e}\ntol = {tol:e}\nseconds = {s:e}\nerror = {e:e}\nratio = {:e}",
+            s / base
+        )
+        .unwrap();
+    }
+    std::fs::write(path, t).unwrap();
+}
+
+/// Re-renders the report from the last measurement (`--from-csv`).
+fn render_from_csv(o: &Options) {
+    let dir = &o.out;
+    let meta_path = dir.join("work_precision.toml");
+    let text = std::fs::read_to_string(&meta_path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e}: --from-csv needs the file a full run writes",
+            meta_path.display()
+        )
+    });
+    let meta: Meta =
+        toml::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", meta_path.display()));
+    let cases = cases(o);
+    let truths: Vec<Truth> = cases
+        .iter()
+        .map(|c| {
+            let t = meta
+                .truth
+                .iter()
+                .find(|t| t.case == c.name)
+                .unwrap_or_else(|| panic!("{}: no truth for case {}", meta_path.display(), c.name));
+            Truth {
+                samples: vec![],
+                f_mean: t.f_mean,
+                method: t.method.clone(),
+                f_mean_err: t.f_mean_err,
+                ffx_err: t.ffx_err,
+            }
+        })
+        .collect();
+    let names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
+    let csv = dir.join("work_precision.csv");
+    let mut rows: Vec<Row> = read_rows(&csv)
+        .into_iter()
+        .filter(|r| !python_solver(&r.solver) && names.contains(&r.case.as_str()))
+        .collect();
+    if rows.is_empty() {
+        panic!("{}: no measurements", csv.display());
+    }
+    rows.extend(
+        read_rows(&dir.join("peers_python.csv"))
+            .into_iter()
+            .filter(|r| names.contains(&r.case.as_str())),
+    );
+    let targets = Targets {
+        sweep: meta
+            .sweep
+            .iter()
+            .map(|s| (s.tol, s.error, s.seconds))
+            .collect(),
+        stiffness: meta
+            .stiffness
+            .iter()
+            .map(|s| (s.k_t, s.tol, s.seconds, s.error))
+            .collect(),
+    };
+    let ratios: Vec<f64> = meta.stiffness.iter().map(|s| s.ratio).collect();
+    let provenance = Provenance {
+        measured_at: meta.commit.clone(),
+        cores: meta.cores,
+        arch: meta.arch.clone(),
+        rendered_at: Some(git_commit()),
+        python: if meta.python.is_empty() {
+            Ok(())
+        } else {
+            Err(meta.python.clone())
+        },
+    };
+    render(
+        o,
+        &cases,
+        &truths,
+        &rows,
+        &targets,
+        Some(&ratios),
+        &provenance,
+    );
+}
+
+/// Solvers whose rows come from `peers_python.csv`.
+fn python_solver(solver: &str) -> bool {
+    solver.starts_with("scipy") || solver.starts_with("fmu")
+}
+
+/// Plots and `work_precision.md`.
+fn render(
+    o: &Options,
+    cases: &[Case],
+    truths: &[Truth],
+    rows: &[Row],
+    targets: &Targets,
+    stiffness_ratios: Option<&[f64]>,
+    provenance: &Provenance,
+) {
+    let dir = &o.out;
+    std::fs::create_dir_all(dir.join("work_precision")).unwrap();
+    for case in cases {
+        let mine: Vec<&Row> = rows.iter().filter(|r| r.case == case.name).collect();
+        plot::work_precision(
+            &dir.join("work_precision")
+                .join(format!("{}.svg", case.name)),
+            &case.name,
+            &mine,
+        );
+    }
+    let summary = summary::summary(
+        cases,
+        truths,
+        rows,
+        targets,
+        stiffness_ratios,
+        provenance,
+        o,
+    );
+    std::fs::write(dir.join("work_precision.md"), summary).unwrap();
+    eprintln!(
+        "wrote {0}/work_precision.md and {0}/work_precision/*.svg, *.png",
+        dir.display()
+    );
+}
+
 fn main() {
     let o = options();
+    if o.from_csv {
+        render_from_csv(&o);
+        return;
+    }
     let dir = o.out.clone();
     std::fs::create_dir_all(dir.join("work_precision")).unwrap();
     let tols: Vec<f64> = if o.quick {
@@ -610,23 +853,22 @@ fn main() {
     }
     std::fs::write(dir.join("work_precision.csv"), csv).unwrap();
 
-    for case in &cases {
-        let mine: Vec<&Row> = rows.iter().filter(|r| r.case == case.name).collect();
-        plot::work_precision(
-            &dir.join("work_precision")
-                .join(format!("{}.svg", case.name)),
-            &case.name,
-            &mine,
-        );
-    }
-
     let targets = targets();
-    let summary = summary::summary(&cases, &truths, &rows, &targets, &python, &o);
-    std::fs::write(dir.join("work_precision.md"), summary).unwrap();
-    eprintln!(
-        "wrote {0}/work_precision.md, .csv and {0}/work_precision/*.svg",
-        dir.display()
+    let provenance = Provenance {
+        measured_at: git_commit(),
+        cores: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        arch: std::env::consts::ARCH.to_string(),
+        rendered_at: None,
+        python,
+    };
+    write_meta(
+        &dir.join("work_precision.toml"),
+        &provenance,
+        &cases,
+        &truths,
+        &targets,
     );
+    render(&o, &cases, &truths, &rows, &targets, None, &provenance);
 }
 
 /// The issue's targets, measured on the paper-longitudinal scene (1 s, 2000 periods) in one

@@ -1,11 +1,14 @@
-//! `documentation/index.html` of an FMU: what the scene is, its variables with units, start values
-//! and ranges, the equations of its law, motion and drive, and the scene text itself. Plain HTML
-//! with no script, readable offline in any browser.
+//! `documentation/index.html` of an FMU: what the scene is, the sign convention (a picture), its
+//! variables with units, start values and ranges, the equations of its law, motion and drive,
+//! how to choose the parameters, how to run it (fmpy), the platform it needs, and the scene text
+//! itself. Plain HTML with no script, readable offline in any browser: a partner who receives
+//! only the `.fmu` finds everything here.
 
+use crate::description::figure::SIGN_CONVENTION_SVG;
 use crate::description::scene::{drive_name, lateral_name, law_name, motion_name, summary, Scene};
-use crate::description::variables::{Causality, Variable};
+use crate::description::variables::{Causality, VarKind, Variable};
 use crate::description::xml::{self, DEFAULT_EXPERIMENT, DISPLAY_UNITS};
-use crate::model::{Drive, Law, Motion};
+use crate::model::{Drive, InputId, Law, Motion};
 
 /// Escapes text for HTML element content and attribute values.
 pub fn escape(s: &str) -> String {
@@ -157,7 +160,7 @@ fn equations(scene: &Scene) -> Vec<String> {
     } else {
         "<code>T_avg</code>"
     };
-    eq.push(format!("<code>F_mean</code>: exact mean of <code>F_Fx</code> over the most recently completed averaging window (Eq. 11), {window}; the mean since start until a first window completes. <code>reduction = F_mean/F_C</code> (1 when F_C = 0)."));
+    eq.push(format!("<code>F_mean</code>: exact mean of <code>F_Fx</code> over the most recently completed averaging window (Eq. 11), {window}; the mean since start until a first window completes. <code>reduction = 1 − F_mean/F_C</code>: the fraction by which the vibration lowers the mean friction (0: no reduction, also when F_C = 0; 0.6: 60 % less friction)."));
     eq.push("<code>P_diss = F_F·v_r − d(k_t·|s|²/2)/dt</code>: the power dissipated in the contact (never negative for Dahl and Dupont).".to_string());
     eq.push("<code>F_Fx_step</code>, <code>F_Fy_step</code>: the exact mean of each friction component over the last communication step, <code>∫F dt/h</code>: the impulse a host that integrates the body itself applies, without sampling a force that vibrates between its samples. First-order output derivatives (<code>fmi2GetRealOutputDerivatives</code>) are exact for <code>x</code>, <code>y</code>, <code>v_x</code>, <code>v_y</code>, <code>s_x</code>, <code>s_y</code> and the step means (as moving means over the last step).".to_string());
     if c.normal_input {
@@ -166,8 +169,204 @@ fn equations(scene: &Scene) -> Vec<String> {
     eq
 }
 
-/// The documentation page of a scene's FMU.
+/// The binary an FMU ships, for the platform section of its page.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Binary {
+    /// FMI platform directory (`linux64`, `win64`, `darwin64`).
+    pub platform: &'static str,
+    /// The oldest glibc that loads the binary (its highest `GLIBC_` symbol version), when known.
+    pub glibc: Option<String>,
+    /// The shared libraries it links (`DT_NEEDED`), when known.
+    pub libraries: Vec<String>,
+}
+
+/// How to choose the parameters of this scene: the guidance a user needs before a first run,
+/// as HTML list items.
+pub fn guidance(scene: &Scene) -> Vec<String> {
+    let c = &scene.config;
+    let p = &scene.start;
+    let mut g = vec![];
+    let f_c = p.f_c();
+    let s_ss = if p.k_t > 0.0 { f_c / p.k_t } else { f64::NAN };
+    g.push(format!(
+        "<code>k_t</code>: the tangential contact stiffness sets the pre-sliding displacement \
+         <code>s_ss = F_C/k_t</code> (here {} µm), the elastic travel before the contact slides. \
+         Choose it from a measured pre-sliding displacement (typically 0.1–10 µm for metal \
+         contacts). What the vibration does depends on <code>psi = v_d/(2·pi·f·u0)</code> and on \
+         <code>u0/s_ss = u0·k_t/F_C</code>: for <code>u0 ≫ s_ss</code> the contact acts as a \
+         rigid Coulomb contact, for <code>u0 ≲ s_ss</code> the vibration is taken up elastically \
+         and reduces little.",
+        xml::number((s_ss * 1e6 * 1e4).round() / 1e4)
+    ));
+    if c.law == Law::LuGre {
+        g.push(
+            "<code>zeta_t</code> (LuGre): damping ratio of the contact's tangential mode, \
+            <code>h_t = 2·zeta_t·sqrt(m·k_t)</code>. The default 1 (critical damping, the paper's \
+            Eq. 6) adds <code>h_t·ds/dt</code> to <code>F_F</code>: under a fast vibration \
+            <code>ds/dt</code> follows the support velocity and this viscous term makes \
+            <code>F_Fx</code> swing beyond <code>F_S</code> within each period, although \
+            <code>F_mean</code> stays right (in <code>contact-lugre.toml</code>, 2 kHz, 0.2 µm, \
+            <code>F_d</code> = 8 N: <code>F_Fx</code> between −16.1 and 15.8 N at \
+            <code>zeta_t</code> = 1, between 0.4 and 11.6 N at 0.1, <code>F_mean</code> = 8 N in \
+            both). For a contact whose force should stay within <code>F_S</code>, take \
+            <code>zeta_t</code> of 0.01–0.1, or a smaller <code>v_e</code>, which switches the \
+            damping off once the contact slides (<code>v_e</code> = 1e-4 m/s at \
+            <code>zeta_t</code> = 1: −0.7 to 11.8 N)."
+                .to_string(),
+        );
+    }
+    let window = if c.harmonic {
+        "with the harmonic source on (<code>f</code> &gt; 0) the averaging window is its period \
+         <code>1/f</code>; <code>T_avg</code> is used only when <code>f</code> = 0."
+    } else {
+        "this scene has no harmonic source: the averaging window is <code>T_avg</code>."
+    };
+    let input = if c.input_support {
+        " When the support motion comes from the inputs <code>v_sx</code>/<code>v_sy</code>, the \
+         FMU cannot know its period: <b>set <code>T_avg</code> to the period of the excitation</b> \
+         (or a multiple of it). A window that is a fraction of the period gives an \
+         <code>F_mean</code> that follows the excitation instead of its mean (with a 20 Hz \
+         input and the default 1 ms, <code>F_mean</code> can even be negative)."
+    } else {
+        ""
+    };
+    g.push(format!(
+        "<code>T_avg</code>: {window}{input} <code>F_mean</code> is updated at the end of each \
+         window."
+    ));
+    g.push(
+        "Tolerance (<code>fmi2SetupExperiment</code>, default 1e-6): the relative tolerance \
+        of the internal integrator. The error of <code>F_mean</code> is of the order of \
+        tolerance × <code>F_C</code> or smaller; 1e-4 suits system simulation, 1e-8 sweeps that \
+        compare small differences of <code>F_mean</code>."
+            .to_string(),
+    );
+    g.push(
+        "Communication step: the FMU resolves every vibration period inside a step, so the \
+        step follows what the importer needs, not the vibration. <code>F_mean</code> and \
+        <code>reduction</code> change once per averaging window: a step of one or a few windows \
+        shows them fully. To see the waveform of <code>F_Fx</code>, use a step of at most 1/20 of \
+        the vibration period. When the FMU is coupled to a host model through its inputs, the \
+        step must resolve the host's dynamics; passing input derivatives \
+        (<code>fmi2SetRealInputDerivatives</code>) makes the inputs linear in time within a step."
+            .to_string(),
+    );
+    g
+}
+
+/// A Python (fmpy) snippet that runs this FMU.
+pub fn usage_snippet(scene: &Scene) -> String {
+    let c = &scene.config;
+    let id = &scene.model_identifier;
+    let outputs: Vec<&str> = scene
+        .variables()
+        .filter(|v| v.causality(c) == Causality::Output)
+        .map(|v| v.name())
+        .filter(|n| ["F_Fx", "F_mean", "reduction"].contains(n))
+        .collect();
+    let mut start = vec![];
+    if c.harmonic {
+        start.push("\"u0\": 0.5e-6".to_string());
+    }
+    if c.input_support && !c.harmonic {
+        start.push("\"T_avg\": 0.05".to_string());
+    }
+    let input_present = |i: InputId| {
+        scene
+            .variables()
+            .any(|v| v.kind == VarKind::Input(i) && v.causality(c) == Causality::Input)
+    };
+    if input_present(InputId::VD) {
+        start.push("\"v_d\": 2e-3".to_string());
+    }
+    if input_present(InputId::FD) {
+        start.push("\"F_d\": 8.0".to_string());
+    }
+    let mut py = String::new();
+    py.push_str("# pip install fmpy\nfrom fmpy import simulate_fmu\n\n");
+    py.push_str(&format!(
+        "res = simulate_fmu(\n    \"{id}.fmu\",\n    stop_time=0.1,\n    output_interval=1e-3,  # the communication step of a co-simulation\n    relative_tolerance=1e-6,\n    start_values={{{}}},\n    output={:?},\n)\n",
+        start.join(", "),
+        outputs
+    ));
+    py.push_str(&format!(
+        "print(res[\"time\"][-1], res[\"{}\"][-1])\n",
+        outputs.first().copied().unwrap_or("time")
+    ));
+    if input_present(InputId::VSx) {
+        py.push_str("\n# A co-simulation loop: the importer sets the support velocity v_sx before every\n# step, with its derivative, so that the FMU extrapolates it linearly within the step.\nimport math\nimport shutil\n\nfrom fmpy import extract, read_model_description\nfrom fmpy.fmi2 import FMU2Slave\n\n");
+        py.push_str(&format!(
+            "md = read_model_description(\"{id}.fmu\")\nvr = {{v.name: v.valueReference for v in md.modelVariables}}\nunzipdir = extract(\"{id}.fmu\")\nfmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,\n                modelIdentifier=md.coSimulation.modelIdentifier, instanceName=\"contact\")\n"
+        ));
+        py.push_str("fmu.instantiate()\nfmu.setupExperiment(tolerance=1e-6, startTime=0.0)\nf_ex, amplitude = 20.0, 0.05  # the excitation: 20 Hz, 50 mm/s\n");
+        if c.harmonic {
+            py.push_str("# F_mean averages over the built-in vibration's period 1/f (T_avg only when f = 0)\n");
+        } else {
+            py.push_str("fmu.setReal([vr[\"T_avg\"]], [1.0 / f_ex])  # F_mean over one period of the excitation\n");
+        }
+        py.push_str("fmu.enterInitializationMode()\nfmu.exitInitializationMode()\nh, w = 1e-3, 2 * math.pi * f_ex\n");
+        py.push_str("for k in range(500):\n    t = k * h\n    fmu.setReal([vr[\"v_sx\"]], [amplitude * math.sin(w * t)])\n    fmu.setRealInputDerivatives([vr[\"v_sx\"]], [1], [amplitude * w * math.cos(w * t)])\n    fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)\n");
+        py.push_str("print(\"F_mean =\", fmu.getReal([vr[\"F_mean\"]])[0])\nfmu.terminate()\nfmu.freeInstance()\nshutil.rmtree(unzipdir)\n");
+    }
+    py
+}
+
+/// The platform section: where the binary is and what it needs.
+fn platform_html(scene: &Scene, binary: &Binary) -> String {
+    let id = escape(&scene.model_identifier);
+    let mut h = String::from("<h2>Platform requirements</h2>\n<ul>\n");
+    let (ext, os) = match binary.platform {
+        "win64" => ("dll", "64-bit Windows"),
+        "darwin64" => ("dylib", "64-bit macOS"),
+        _ => ("so", "x86-64 Linux"),
+    };
+    let libc = match (&binary.glibc, binary.platform) {
+        (Some(v), "linux64") => format!(
+            ", glibc {v} or newer (the highest <code>GLIBC_</code> symbol version the library imports; glibc 2.17 is RHEL 7, 2.27 Ubuntu 18.04, 2.28 RHEL 8, 2.31 Ubuntu 20.04)"
+        ),
+        (None, "linux64") => {
+            ", glibc: the exporter prints the version the library needs when it writes the FMU"
+                .to_string()
+        }
+        _ => String::new(),
+    };
+    let libraries = if binary.libraries.is_empty() {
+        "the C library and its companions (<code>libc</code>, <code>libm</code>, \
+         <code>libpthread</code>, <code>libdl</code>, <code>libgcc_s</code>)"
+            .to_string()
+    } else {
+        binary
+            .libraries
+            .iter()
+            .map(|l| format!("<code>{}</code>", escape(l)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    h.push_str(&format!(
+        "<li><code>binaries/{}/{id}.{ext}</code>: {os}{libc}. It links only {libraries}: no \
+         other run-time, no Python, no licence server.</li>\n",
+        binary.platform
+    ));
+    h.push_str("<li>Any FMI 2.0 Co-Simulation importer: fmpy, OMSimulator, libcosim, Simulink (FMU Import block), Dymola, fmi-sim and others. The FMU carries no Model Exchange interface.</li>\n");
+    h.push_str("<li>Other platforms (<code>win64</code>, <code>darwin64</code>) are not in this FMU: export the scene on that platform with the same vibrofric version.</li>\n</ul>\n");
+    h
+}
+
+/// The documentation page of a scene's FMU, for a binary whose requirements are not known (the
+/// exporter uses [`index_html_for`]).
 pub fn index_html(scene: &Scene) -> String {
+    index_html_for(
+        scene,
+        &Binary {
+            platform: "linux64",
+            glibc: None,
+            libraries: vec![],
+        },
+    )
+}
+
+/// The documentation page of a scene's FMU that ships `binary`.
+pub fn index_html_for(scene: &Scene, binary: &Binary) -> String {
     let c = &scene.config;
     let id = escape(&scene.model_identifier);
     let mut h = String::new();
@@ -202,6 +401,10 @@ pub fn index_html(scene: &Scene) -> String {
         }
     ));
     h.push_str("<p>The model is the friction contact of a body sliding on a support that vibrates in the sliding plane, after Leus and Gutowski, “Friction force reduction efficiency in sliding motion under tangential vibrations of elastic support”, Acta Mechanica et Automatica, 2024 (equation numbers are the paper's).</p>\n");
+
+    h.push_str("<h2>Sign convention</h2>\n");
+    h.push_str(SIGN_CONVENTION_SVG);
+    h.push_str("<p><code>F_F</code> is the friction force in the paper's convention: it resists the relative velocity <code>v_r = v − v_s</code>, and the support acts on the body with <code>−F_F</code>. While the body slides towards +x relative to the support, <code>F_Fx</code> &gt; 0; under a velocity drive <code>F_Fx</code> is the force that keeps the body at <code>v_d</code>.</p>\n");
 
     h.push_str("<h2>Equations</h2>\n<ul>\n");
     for e in equations(scene) {
@@ -238,6 +441,20 @@ pub fn index_html(scene: &Scene) -> String {
         xml::number(tol),
         xml::number(step)
     ));
+    h.push_str("<h2>Choosing the parameters</h2>\n<ul>\n");
+    for g in guidance(scene) {
+        h.push_str(&format!("<li>{g}</li>\n"));
+    }
+    h.push_str("</ul>\n");
+
+    h.push_str("<h2>Running it</h2>\n<p>With <a href=\"https://github.com/CATIA-Systems/FMPy\">fmpy</a> (<code>pip install fmpy</code>). For a Co-Simulation FMU the communication step is fmpy's <code>output_interval</code> (<code>--output-interval</code> on fmpy's command line); <code>step_size</code> is for Model Exchange only.</p>\n");
+    h.push_str(&format!("<pre>{}</pre>\n", escape(&usage_snippet(scene))));
+    h.push_str(&format!(
+        "<p>From the command line: <code>fmpy simulate {}.fmu --output-interval 1e-3 --stop-time 0.1</code>. The variable table above gives every name and value reference; value references are the same in every vibrofric FMU.</p>\n",
+        escape(&scene.model_identifier)
+    ));
+    h.push_str(&platform_html(scene, binary));
+
     h.push_str("<h2>Logging</h2>\n<ul>\n");
     for (name, d) in xml::LOG_CATEGORIES {
         h.push_str(&format!("<li><code>{name}</code>: {}</li>\n", escape(d)));

@@ -2,6 +2,8 @@
 //! Knows the model's identifiers, nothing of the integrator or of C.
 
 pub mod docs;
+pub mod figure;
+pub mod reference;
 pub mod scene;
 pub mod variables;
 pub mod xml;

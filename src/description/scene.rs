@@ -1,4 +1,5 @@
-//! Scenes (SPEC §4): the TOML file that says what an FMU contains.
+//! Scenes: the TOML file that says what an FMU contains (reference: `docs/scenes.md`, generated
+//! from this reader and the variable table).
 //!
 //! A scene fixes the structural choices ([`Config`]), the outputs the FMU exposes and the start
 //! values of its parameters and inputs. Reading one checks every key against its rule and reports
@@ -36,6 +37,65 @@ pub const KEYS: [&str; 10] = [
     "start",
 ];
 
+/// The values of the choice keys, as the reader accepts them.
+pub const LAWS: [&str; 3] = ["dahl", "dupont", "lugre"];
+pub const MOTIONS: [&str; 2] = ["longitudinal", "planar"];
+pub const DRIVES: [&str; 3] = ["force", "velocity", "spring"];
+pub const LATERALS: [&str; 2] = ["free", "guided"];
+pub const SUPPORTS: [&str; 2] = ["harmonic", "input"];
+pub const NORMALS: [&str; 2] = ["parameter", "input"];
+
+/// What each key of [`KEYS`] is, for the generated reference: (key, required or default,
+/// meaning). A unit test keeps it in the order of [`KEYS`].
+pub const KEY_HELP: [(&str, &str, &str); 10] = [
+    (
+        "model_identifier",
+        "required",
+        "The FMU's model identifier: its file name `<model_identifier>.fmu` and the name of its shared library. A C identifier (a letter or `_`, then letters, digits or `_`; not a C keyword), different in every scene exported together.",
+    ),
+    (
+        "description",
+        "default: a summary of law, motion, drive and support motion",
+        "Free text, shown by importers and on the FMU's documentation page.",
+    ),
+    ("law", "required", "The friction law of the contact."),
+    (
+        "motion",
+        "required",
+        "`longitudinal`: every quantity is a scalar along x. `planar`: deformation, velocities and friction force are vectors in the sliding plane (x, y).",
+    ),
+    (
+        "drive",
+        "default: `\"force\"`",
+        "How the body is driven along x: `force` (input `F_d`, the body's motion is integrated), `velocity` (input `v_d` imposed; `F_Fx` is then the driving force), `spring` (a spring `k_d` and damper `c_d` whose far end moves at the input `v_d`; `F_d` is an output).",
+    ),
+    (
+        "lateral",
+        "default: `\"guided\"`; only in planar scenes with velocity drive",
+        "Lateral motion of a velocity-driven body: `free` (`m·dv_y/dt = −F_Fy`) or `guided` (`v_y = 0`).",
+    ),
+    (
+        "support",
+        "required, a non-empty array",
+        "The support motion: `harmonic` (built in: `u0`, `f`, `phase`, and `angle` in planar scenes), `input` (support velocities `v_sx`, `v_sy` set by the importer), or both (summed).",
+    ),
+    (
+        "normal",
+        "default: `\"parameter\"`",
+        "The normal force `F_N`: a tunable `parameter`, or a continuous `input` from the host (held or extrapolated with its input derivative; `F_C = mu·F_N(t)` and what follows from it change with it; LuGre's `F_S` and `zeta_t` are given at `F_N`'s start value and scale with the load; a negative `F_N` is refused, and below the tolerance times the start value the body has lifted off: no friction, no deformation). Its value reference is 2 in either case.",
+    ),
+    (
+        "outputs",
+        "default: every output the scene can have",
+        "The outputs the FMU exposes, a non-empty array of names (see the tables below for which a scene can have).",
+    ),
+    (
+        "start",
+        "default: none",
+        "A table of start values that override the defaults: any parameter or input of the scene (see the tables below), in SI units.",
+    ),
+];
+
 /// A parsed and checked scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
@@ -51,7 +111,7 @@ pub struct Scene {
     pub outputs: Vec<OutputId>,
     /// Parameter start values: [`Params::default`] with the scene's `[start]` overrides.
     pub start: Params,
-    /// Input start values: the defaults of SPEC §3 (`v_d` = 1e-3 m/s, the others 0) with the
+    /// Input start values: the defaults of `docs/model.md` (`v_d` = 1e-3 m/s, the others 0) with the
     /// scene's `[start]` overrides. An FMU instance holds these inputs until the importer sets
     /// them; the model description's `start` attributes state them.
     pub inputs: Inputs,
@@ -59,7 +119,7 @@ pub struct Scene {
     pub source: String,
 }
 
-/// Input start values when a scene does not set them (SPEC §3).
+/// Input start values when a scene does not set them (`docs/model.md`).
 pub fn default_inputs() -> Inputs {
     Inputs {
         f_d: 0.0,
@@ -375,12 +435,6 @@ impl Scene {
         };
 
         // law, motion, drive
-        const LAWS: [&str; 3] = ["dahl", "dupont", "lugre"];
-        const MOTIONS: [&str; 2] = ["longitudinal", "planar"];
-        const DRIVES: [&str; 3] = ["force", "velocity", "spring"];
-        const LATERALS: [&str; 2] = ["free", "guided"];
-        const SUPPORTS: [&str; 2] = ["harmonic", "input"];
-        const NORMALS: [&str; 2] = ["parameter", "input"];
         let law = match get("law") {
             None => {
                 return Err(missing(

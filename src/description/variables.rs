@@ -300,7 +300,7 @@ pub static VARIABLES: [Variable; 36] = [
     output(207, OutputId::Sx, "m", UM, "Contact deformation along x"),
     output(208, OutputId::Sy, "m", UM, "Contact deformation along y"),
     output(209, OutputId::FMean, "N", None, "Mean of F_Fx over the last completed averaging window (exact integral)"),
-    output(210, OutputId::Reduction, "1", None, "F_mean/F_C (1 when F_C = 0)"),
+    output(210, OutputId::Reduction, "1", None, "Friction reduction 1 - F_mean/F_C: the fraction by which the vibration lowers the mean friction (0: none, also when F_C = 0)"),
     output(211, OutputId::PDiss, "W", None, "Power dissipated in the contact: F_F.v_r less the rate of the elastic energy"),
     output(212, OutputId::FFxStep, "N", None, "Mean of F_Fx over the last communication step (exact integral / step size): the impulse a host integrates without aliasing"),
     output(213, OutputId::FFyStep, "N", None, "Mean of F_Fy over the last communication step (exact integral / step size)"),

@@ -93,7 +93,7 @@ pub fn number(x: f64) -> String {
 }
 
 /// What an output depends on at initialization (`ModelStructure/InitialUnknowns`): derived from
-/// the equations of SPEC §2 at the start time with zero deformation, the body at rest at the
+/// the equations of `docs/model.md` at the start time with zero deformation, the body at rest at the
 /// origin and the spring's far end at `x_d = 0`.
 ///
 /// - `s`, `x`, `y`, `v_y` are 0: no dependency; `v_x` is `v_d` in velocity drive, else 0.
@@ -102,7 +102,8 @@ pub fn number(x: f64) -> String {
 ///   `h_t = 2·zeta_t·sqrt(m·k_t)·exp(−|v_r|²/v_e²)`; `v_r = v − v_s` depends on `v_d` (velocity
 ///   drive), the harmonic source (`u0`, `f`, `phase`, `angle`) and the input support velocities.
 ///   `P_diss = F_F·v_r` has the same dependencies.
-/// - `F_mean` and the step means = `F_F` at the start; `reduction = F_mean/F_C` adds `F_N`, `mu`.
+/// - `F_mean` and the step means = `F_F` at the start; `reduction = 1 − F_mean/F_C` adds `F_N`,
+///   `mu`.
 /// - Spring drive: `F_d = c_d·v_d`.
 pub fn initial_dependencies(v: &Variable, c: &Config) -> Vec<VarKind> {
     let out = match v.kind {

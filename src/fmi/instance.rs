@@ -139,7 +139,7 @@ fn mask_names(mask: u32) -> String {
         .join(", ")
 }
 
-/// Log categories of `modelDescription.xml` (SPEC §5).
+/// Log categories of `modelDescription.xml` (`docs/using.md`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Category {
     Events = 0,

@@ -1,4 +1,4 @@
-//! What a contact is made of: the choices a scene makes (SPEC §4).
+//! What a contact is made of: the choices a scene makes (`docs/scenes.md`).
 
 /// Friction law of the contact zone.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

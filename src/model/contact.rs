@@ -1404,7 +1404,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             s_x: e.s.x(),
             s_y: e.s.y(),
             f_mean,
-            reduction: if f_c > 0.0 { f_mean / f_c } else { 1.0 },
+            // 1 − F_mean/F_C: the fraction by which the vibration lowers the mean friction.
+            reduction: if f_c > 0.0 { 1.0 - f_mean / f_c } else { 0.0 },
             p_diss: self
                 .dynamics
                 .law_at(self.radau.t)

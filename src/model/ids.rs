@@ -124,7 +124,8 @@ pub struct Outputs {
     pub s_y: f64,
     /// Mean of `F_Fx` over the most recently completed averaging window [N].
     pub f_mean: f64,
-    /// `F_mean/F_C` (1 when `F_C` = 0).
+    /// `1 − F_mean/F_C`: the fraction by which the vibration lowers the mean friction force
+    /// (0: no reduction, also when `F_C` = 0; 1: no mean friction left).
     pub reduction: f64,
     /// Power dissipated in the contact [W].
     pub p_diss: f64,

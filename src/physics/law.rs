@@ -1,4 +1,4 @@
-//! The friction laws of SPEC §2: Dahl, Dupont (elasto-plastic) and LuGre, each written once for
+//! The friction laws of `docs/model.md`: Dahl, Dupont (elasto-plastic) and LuGre, each written once for
 //! a longitudinal (`f64`) and a planar ([`Planar`](super::Planar)) contact.
 //!
 //! A law maps the deformation `s` and the relative velocity `v_r` to the deformation rate
@@ -168,7 +168,7 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     }
 }
 
-/// Dahl (SPEC §2, Eqs. 1, 3 with gamma = 1).
+/// Dahl (`docs/model.md`, Eqs. 1, 3 with gamma = 1).
 #[derive(Clone, Copy, Debug)]
 pub struct Dahl {
     k_t: f64,
@@ -198,7 +198,7 @@ impl FrictionLaw for Dahl {
         if self.kappa == 1.0 {
             vr - s * (vr.norm() * self.inv_s_ss)
         } else {
-            // Longitudinal only (SPEC §2): ds/dt = v_r·|w|^kappa·sgn(w), w = 1 − sgn(v_r)·s/s_ss.
+            // Longitudinal only (`docs/model.md`): ds/dt = v_r·|w|^kappa·sgn(w), w = 1 − sgn(v_r)·s/s_ss.
             let (s, v) = (s.x(), vr.x());
             let w = 1.0 - v.signum() * s * self.inv_s_ss;
             V::from_xy(v * w.abs().powf(self.kappa) * w.signum(), 0.0)
@@ -276,7 +276,7 @@ impl FrictionLaw for Dahl {
     }
 }
 
-/// Dupont elasto-plastic (SPEC §2; Dupont, Hayward, Armstrong, Altpeter, IEEE TAC 2002).
+/// Dupont elasto-plastic (`docs/model.md`; Dupont, Hayward, Armstrong, Altpeter, IEEE TAC 2002).
 #[derive(Clone, Copy, Debug)]
 pub struct Dupont {
     k_t: f64,
@@ -378,11 +378,11 @@ impl FrictionLaw for Dupont {
     }
 }
 
-/// LuGre (SPEC §2, Eqs. 2, 4–7).
 /// Lowest `g(v_r)` relative to its largest value (see [`LuGre::g`]): a friction force of a
 /// millionth of the largest is none for any tolerance the integrators resolve.
 const G_FLOOR: f64 = 1e-6;
 
+/// LuGre (`docs/model.md`, Eqs. 2, 4–7).
 #[derive(Clone, Copy, Debug)]
 pub struct LuGre {
     k_t: f64,

@@ -1,4 +1,4 @@
-//! Physical parameters of the contact (SPEC §3) and the rules that bound them.
+//! Physical parameters of the contact (`docs/model.md`) and the rules that bound them.
 
 /// Every parameter of every scene. A scene uses a subset; the others keep their defaults and
 /// are never read by the arithmetic of that scene.
@@ -186,7 +186,7 @@ impl ParamId {
         ParamId::MaxSteps,
     ];
 
-    /// The variable name of SPEC §3.
+    /// The variable name (the table of `docs/model.md`).
     pub fn name(self) -> &'static str {
         match self {
             ParamId::M => "m",

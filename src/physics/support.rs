@@ -3,7 +3,7 @@
 use std::f64::consts::TAU;
 
 /// The built-in harmonic source `u = u0·sin(theta(t))` along the direction `angle` to x
-/// (SPEC §2, Eqs. 13–14), with `theta(t) = theta_ref + 2·pi·f·(t − t_ref)`.
+/// (`docs/model.md`, Eqs. 13–14), with `theta(t) = theta_ref + 2·pi·f·(t − t_ref)`.
 ///
 /// When `f` or `phase` is retuned during a run, the reference moves to that instant so that the
 /// support position stays continuous.

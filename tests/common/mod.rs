@@ -22,7 +22,7 @@ pub fn ellip_k(m: f64) -> f64 {
     PI / (2.0 * a)
 }
 
-/// Coulomb limit of `F_mean/F_C`, longitudinal vibration, velocity drive (SPEC §6).
+/// Coulomb limit of `F_mean/F_C`, longitudinal vibration, velocity drive (`docs/model.md`).
 pub fn coulomb_longitudinal(psi: f64) -> f64 {
     if psi < 1.0 {
         2.0 / PI * psi.asin()
@@ -31,7 +31,7 @@ pub fn coulomb_longitudinal(psi: f64) -> f64 {
     }
 }
 
-/// Coulomb limit of `F_mean/F_C`, transverse vibration, lateral guided (SPEC §6).
+/// Coulomb limit of `F_mean/F_C`, transverse vibration, lateral guided (`docs/model.md`).
 pub fn coulomb_transverse(psi: f64) -> f64 {
     let q = 1.0 / psi;
     let q2 = q * q;

@@ -8,7 +8,7 @@ use vibrofric::description::xml;
 use vibrofric::description::Scene;
 use vibrofric::importer::{Fmu, Instance, Status};
 
-/// Value references (SPEC §3; stable across scenes).
+/// Value references (`docs/model.md`; stable across scenes).
 pub mod vr {
     pub const M: u32 = 1;
     pub const F_N: u32 = 2;

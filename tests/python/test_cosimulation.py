@@ -16,7 +16,7 @@ import pytest
 
 from conftest import SCENES, core, fmu_path
 
-K_D, C_D, V_D = 1e5, 100.0, 1e-3  # the spring drive's defaults (SPEC §3)
+K_D, C_D, V_D = 1e5, 100.0, 1e-3  # the spring drive's defaults (`docs/model.md`)
 TOL = 1e-9
 # Communication steps of 4.8, 2.4, ... 0.3 periods of the 2 kHz excitation: the master samples
 # x and v_x, which vibrate, at phases that do not repeat; steps that are whole multiples of the

@@ -1,0 +1,449 @@
+//! The scene reference `docs/scenes.md`, generated from the scene reader ([`Scene::parse`], its
+//! keys and values) and the variable table ([`VARIABLES`]): every key and its values, every
+//! parameter and input with default, unit and rule, and for each law × motion × drive which
+//! parameters, inputs and outputs an FMU has. `tests/docs_reference.rs` fails when the checked-in
+//! file differs from what this writes.
+//!
+//! The per-configuration tables are not derived from rules restated here: each row is a scene
+//! text that the reader parses, and the variables listed are the ones that scene carries.
+
+use std::fmt::Write as _;
+
+use crate::description::scene::{
+    default_inputs, drive_name, lateral_name, law_name, motion_name, Scene, DRIVES, KEYS, KEY_HELP,
+    LATERALS, LAWS, MOTIONS, NORMALS, SUPPORTS,
+};
+use crate::description::variables::{Causality, VarKind, Variable, VARIABLES};
+use crate::description::xml;
+use crate::model::{Drive, Lateral, Law, Motion};
+use crate::physics::Params;
+
+fn code_list(words: &[&str]) -> String {
+    words
+        .iter()
+        .map(|w| format!("`\"{w}\"`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn names(vars: &[&Variable]) -> String {
+    if vars.is_empty() {
+        return "—".into();
+    }
+    vars.iter()
+        .map(|v| format!("`{}`", v.name()))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The accepted range (the configuration-independent one; a scene may narrow it, see the
+/// per-scene tables and each FMU's model description).
+fn rule_text(v: &Variable) -> String {
+    let rule = match v.kind {
+        VarKind::Param(p) => p.rule(),
+        VarKind::Input(i) => i.rule(),
+        VarKind::Output(_) => return String::new(),
+    };
+    format!("[{}, {}]", xml::number(rule.min), xml::number(rule.max))
+}
+
+fn default_text(v: &Variable) -> String {
+    let p = Params::default();
+    let i = default_inputs();
+    match v.kind {
+        VarKind::Param(id) => xml::number(id.get(&p)),
+        VarKind::Input(id) => xml::number(id.get(&i)),
+        VarKind::Output(_) => String::new(),
+    }
+}
+
+/// A scene text with these choices (and no `outputs`, so every possible output).
+pub fn scene_text(
+    law: Law,
+    motion: Motion,
+    drive: Drive,
+    lateral: Option<Lateral>,
+    support: &[&str],
+) -> String {
+    let mut t = format!(
+        "model_identifier = \"Reference\"\nlaw = \"{}\"\nmotion = \"{}\"\ndrive = \"{}\"\n",
+        law_name(law),
+        motion_name(motion),
+        drive_name(drive)
+    );
+    if let Some(l) = lateral {
+        t.push_str(&format!("lateral = \"{}\"\n", lateral_name(l)));
+    }
+    let s: Vec<String> = support.iter().map(|w| format!("\"{w}\"")).collect();
+    t.push_str(&format!("support = [{}]\n", s.join(", ")));
+    t
+}
+
+fn parse(text: &str) -> Result<Scene, String> {
+    Scene::parse(text, "reference.toml").map_err(|e| e.to_string())
+}
+
+/// Every law × motion × drive (× lateral for planar velocity drives), as the reader names them.
+pub fn configurations() -> Vec<(Law, Motion, Drive, Option<Lateral>)> {
+    let laws = [Law::Dahl, Law::Dupont, Law::LuGre];
+    let motions = [Motion::Longitudinal, Motion::Planar];
+    let drives = [Drive::Force, Drive::Velocity, Drive::Spring];
+    let mut out = vec![];
+    for law in laws {
+        for motion in motions {
+            for drive in drives {
+                if motion == Motion::Planar && drive == Drive::Velocity {
+                    for l in [Lateral::Free, Lateral::Guided] {
+                        out.push((law, motion, drive, Some(l)));
+                    }
+                } else {
+                    out.push((law, motion, drive, None));
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The variables of a scene with this causality.
+fn of(scene: &Scene, causality: Causality) -> Vec<&'static Variable> {
+    scene
+        .variables()
+        .filter(|v| v.causality(&scene.config) == causality)
+        .collect()
+}
+
+fn minus<'a>(a: &[&'a Variable], b: &[&'a Variable]) -> Vec<&'a Variable> {
+    a.iter()
+        .filter(|v| !b.iter().any(|w| w.vr == v.vr))
+        .copied()
+        .collect()
+}
+
+/// `docs/scenes.md`: `standard` is every standard scene as (file name, scene).
+pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
+    let mut m = String::new();
+    let w = &mut m;
+    writeln!(
+        w,
+        "# Scene reference\n\n\
+         <!-- Generated from the scene reader (src/description/scene.rs) and the variable table \
+         (src/description/variables.rs) by src/description/reference.rs. Do not edit: \
+         regenerate with `UPDATE_DOCS=1 cargo test --test docs_reference`. -->\n\n\
+         A scene is a TOML file that says what an FMU contains: the friction law, the motion, \
+         the drive, the support motion, the outputs and the start values. `cargo run --release` \
+         exports every `scenes/*.toml`; `cargo run --release -- export SCENE.toml... --out DIR` \
+         exports the scenes given. The model and its parameters are explained in \
+         [model.md](model.md); this page is the reference of the file format and of what each \
+         combination of choices puts into an FMU.\n\n\
+         An example (`scenes/paper-longitudinal.toml` is close to it):\n\n\
+         ```toml\n\
+         model_identifier = \"MyContact\"\n\
+         description = \"Longitudinal vibration, velocity drive\"\n\
+         law = \"dahl\"\n\
+         motion = \"longitudinal\"\n\
+         drive = \"velocity\"\n\
+         support = [\"harmonic\"]\n\
+         outputs = [\"F_Fx\", \"F_mean\", \"reduction\"]\n\
+         \n\
+         [start]\n\
+         k_t = 1e9\n\
+         u0 = 5e-7\n\
+         v_d = 2e-3\n\
+         ```\n"
+    )
+    .unwrap();
+
+    // Keys.
+    writeln!(
+        w,
+        "## Keys\n\n| key | values | required / default | meaning |\n|---|---|---|---|"
+    )
+    .unwrap();
+    for (i, key) in KEYS.iter().enumerate() {
+        let (k, req, meaning) = KEY_HELP[i];
+        if k != *key {
+            return Err(format!(
+                "KEY_HELP[{i}] is {k}, KEYS[{i}] is {key}: keep them in the same order"
+            ));
+        }
+        let values = match *key {
+            "model_identifier" => "string (C identifier)".to_string(),
+            "description" => "string".to_string(),
+            "law" => code_list(&LAWS),
+            "motion" => code_list(&MOTIONS),
+            "drive" => code_list(&DRIVES),
+            "lateral" => code_list(&LATERALS),
+            "support" => format!("array of {}", code_list(&SUPPORTS)),
+            "normal" => code_list(&NORMALS),
+            "outputs" => "array of output names".to_string(),
+            "start" => "table: name = number".to_string(),
+            other => return Err(format!("no values documented for key {other}")),
+        };
+        writeln!(w, "| `{key}` | {values} | {req} | {meaning} |").unwrap();
+    }
+    writeln!(
+        w,
+        "\nAny other key is an error. Every error names the file, the line, the key, the rule \
+         it breaks and what would be valid, for example (messages from the reader itself):\n"
+    )
+    .unwrap();
+    let base = scene_text(
+        Law::Dahl,
+        Motion::Longitudinal,
+        Drive::Velocity,
+        None,
+        &["harmonic"],
+    );
+    for bad in [
+        format!("{base}colour = \"red\"\n"),
+        base.replace("\"dahl\"", "\"coulomb\""),
+        format!("{base}outputs = [\"F_Fx\", \"F_Fy\"]\n"),
+        format!("{base}[start]\nk_t = -1e8\n"),
+        format!("{base}[start]\nF_S = 20\n"),
+    ] {
+        match Scene::parse(&bad, "my-scene.toml") {
+            Ok(_) => return Err(format!("the reader accepted a bad scene:\n{bad}")),
+            Err(e) => writeln!(w, "    {e}").unwrap(),
+        }
+    }
+
+    // Parameters and inputs.
+    writeln!(
+        w,
+        "\n## Parameters and inputs (`[start]`)\n\n\
+         Value references are the same in every FMU. Units are SI; the display unit is what an \
+         importer may show. A start value out of its rule is refused when the scene is read; \
+         the FMU refuses the same values in `fmi2SetReal` (with `fmi2Error` and a log message \
+         naming the variable and the rule).\n\n\
+         | name | value reference | unit | display unit | default | rule | in scenes with | description |\n\
+         |---|---|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    let configs = configurations();
+    let all_supports: [&[&str]; 3] = [&["harmonic"], &["input"], &["harmonic", "input"]];
+    // Which choices a variable appears with: scan every configuration and support motion.
+    let mut scenes_all: Vec<Scene> = vec![];
+    for &(law, motion, drive, lateral) in &configs {
+        for s in all_supports {
+            scenes_all.push(parse(&scene_text(law, motion, drive, lateral, s))?);
+        }
+    }
+    for v in VARIABLES
+        .iter()
+        .filter(|v| !matches!(v.kind, VarKind::Output(_)))
+    {
+        let present = where_present(&scenes_all, |s| {
+            s.has_vr(v.vr) && v.causality(&s.config) != Causality::Output
+        })
+        .map_err(|e| format!("{}: {e}", v.name()))?;
+        writeln!(
+            w,
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} |",
+            v.name(),
+            v.vr,
+            v.unit,
+            v.display_unit
+                .map_or(String::new(), |d| d.replace("um", "µm")),
+            default_text(v),
+            rule_text(v),
+            present,
+            v.description
+        )
+        .unwrap();
+    }
+
+    // Outputs.
+    writeln!(
+        w,
+        "\n## Outputs\n\n| name | value reference | unit | display unit | in scenes with | description |\n|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    for v in VARIABLES.iter() {
+        let has = |s: &Scene| s.has_vr(v.vr) && v.causality(&s.config) == Causality::Output;
+        if !scenes_all.iter().any(has) {
+            continue;
+        }
+        let present = where_present(&scenes_all, has).map_err(|e| format!("{}: {e}", v.name()))?;
+        let description = if matches!(v.kind, VarKind::Input(_)) {
+            "Spring-drive force on the body along x, `k_d·(x_d − x) + c_d·(v_d − v_x)` (an output in spring drive, the input of a force drive)"
+        } else {
+            v.description
+        };
+        writeln!(
+            w,
+            "| `{}` | {} | {} | {} | {} | {} |",
+            v.name(),
+            v.vr,
+            v.unit,
+            v.display_unit
+                .map_or(String::new(), |d| d.replace("um", "µm")),
+            present,
+            description
+        )
+        .unwrap();
+    }
+    writeln!(
+        w,
+        "\nThe key `outputs` keeps a subset; leaving it out keeps every output the scene can have."
+    )
+    .unwrap();
+
+    // Per configuration.
+    writeln!(
+        w,
+        "\n## What each combination has\n\n\
+         For each law × motion × drive (and lateral motion, in planar scenes with velocity \
+         drive): the parameters, inputs and outputs of its FMU with `support = [\"harmonic\"]`, \
+         and what `\"input\"` support motion changes (with both, an FMU has the union). Each row \
+         is a scene that the reader parsed.\n\n\
+         | law | motion | drive | parameters | inputs | outputs | `\"input\"` instead of `\"harmonic\"` |\n\
+         |---|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    for &(law, motion, drive, lateral) in &configs {
+        let h = parse(&scene_text(law, motion, drive, lateral, &["harmonic"]))?;
+        let i = parse(&scene_text(law, motion, drive, lateral, &["input"]))?;
+        let both = parse(&scene_text(
+            law,
+            motion,
+            drive,
+            lateral,
+            &["harmonic", "input"],
+        ))?;
+        let (hp, hi, ho) = (
+            of(&h, Causality::Parameter),
+            of(&h, Causality::Input),
+            of(&h, Causality::Output),
+        );
+        let (ip, ii) = (of(&i, Causality::Parameter), of(&i, Causality::Input));
+        // The union claim of the heading: both = harmonic ∪ input.
+        let union: Vec<u32> = {
+            let mut u: Vec<u32> = h.variables().chain(i.variables()).map(|v| v.vr).collect();
+            u.sort();
+            u.dedup();
+            u
+        };
+        let both_vrs: Vec<u32> = both.variables().map(|v| v.vr).collect();
+        if union != both_vrs {
+            return Err(format!(
+                "{} {} {}: support = [harmonic, input] is not the union of the two",
+                law_name(law),
+                motion_name(motion),
+                drive_name(drive)
+            ));
+        }
+        let mut change = vec![];
+        let lost = minus(&hp, &ip);
+        if !lost.is_empty() {
+            change.push(format!("no {}", names(&lost)));
+        }
+        let gained_inputs = minus(&ii, &hi);
+        if !gained_inputs.is_empty() {
+            change.push(format!("inputs {}", names(&gained_inputs)));
+        }
+        let drive_cell = match lateral {
+            Some(l) => format!("{} (lateral `{}`)", drive_name(drive), lateral_name(l)),
+            None => drive_name(drive).to_string(),
+        };
+        writeln!(
+            w,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            law_name(law),
+            motion_name(motion),
+            drive_cell,
+            names(&hp),
+            names(&hi),
+            names(&ho),
+            change.join("; ")
+        )
+        .unwrap();
+    }
+
+    // Standard scenes.
+    writeln!(
+        w,
+        "\n## The standard scenes (`scenes/`)\n\n| file | FMU | configuration | variables | start values set by the scene |\n|---|---|---|---|---|"
+    )
+    .unwrap();
+    for (file, s) in standard {
+        let defaults = Params::default();
+        let inputs = default_inputs();
+        let mut changed = vec![];
+        for v in s.variables() {
+            let Some(x) = s.start_of(v) else { continue };
+            let d = match v.kind {
+                VarKind::Param(p) => p.get(&defaults),
+                VarKind::Input(i) => i.get(&inputs),
+                VarKind::Output(_) => continue,
+            };
+            if x.to_bits() != d.to_bits() {
+                changed.push(format!("`{} = {}`", v.name(), xml::number(x)));
+            }
+        }
+        writeln!(
+            w,
+            "| `{file}` | `{}` | {} | {} | {} |",
+            s.model_identifier,
+            crate::description::scene::summary(&s.config),
+            s.variables().count(),
+            if changed.is_empty() {
+                "—".into()
+            } else {
+                changed.join(", ")
+            }
+        )
+        .unwrap();
+    }
+    Ok(m)
+}
+
+/// The conditions a variable's presence is described by, in the words of the scene keys. The
+/// first whose set of scenes is exactly the set that has the variable is used; a variable that
+/// none describes fails the generation (add its condition here).
+type Condition = (&'static str, fn(&crate::model::Config) -> bool);
+
+const CONDITIONS: [Condition; 16] = [
+    ("every scene", |_| true),
+    ("law `\"dahl\"`", |c| c.law == Law::Dahl),
+    ("law `\"dupont\"`", |c| c.law == Law::Dupont),
+    ("law `\"lugre\"`", |c| c.law == Law::LuGre),
+    ("motion `\"planar\"`", |c| c.motion == Motion::Planar),
+    ("law `\"dahl\"` and motion `\"longitudinal\"`", |c| {
+        c.law == Law::Dahl && c.motion == Motion::Longitudinal
+    }),
+    ("drive `\"force\"`", |c| c.drive == Drive::Force),
+    ("drive `\"spring\"`", |c| c.drive == Drive::Spring),
+    ("drive `\"velocity\"` or `\"spring\"`", |c| {
+        c.drive != Drive::Force
+    }),
+    ("support `\"harmonic\"`", |c| c.harmonic),
+    ("support `\"harmonic\"` and motion `\"planar\"`", |c| {
+        c.harmonic && c.motion == Motion::Planar
+    }),
+    ("support `\"input\"`", |c| c.input_support),
+    ("support `\"input\"` and motion `\"planar\"`", |c| {
+        c.input_support && c.motion == Motion::Planar
+    }),
+    (
+        "a moving body (drive `\"force\"` or `\"spring\"`, or `lateral = \"free\"`) or law `\"lugre\"` (its damping `h_t`)",
+        |c| c.body_dynamic() || c.law == Law::LuGre,
+    ),
+    (
+        "motion `\"planar\"`, except a velocity drive with `lateral = \"guided\"`",
+        |c| c.lateral_free(),
+    ),
+    ("no scene", |_| false),
+];
+
+/// Where a variable appears: the [`CONDITIONS`] entry that matches `has` over `scenes` exactly.
+fn where_present(scenes: &[Scene], has: impl Fn(&Scene) -> bool) -> Result<&'static str, String> {
+    CONDITIONS
+        .iter()
+        .find(|(_, cond)| scenes.iter().all(|s| cond(&s.config) == has(s)))
+        .map(|(text, _)| *text)
+        .ok_or_else(|| {
+            "no condition in reference.rs CONDITIONS describes the scenes that have this variable"
+                .to_string()
+        })
+}
