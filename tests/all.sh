@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # The one test command: checks the toolchain, makes the Python environment, builds, exports dist/
 # (for glibc 2.17, with the exporter's self-check), runs the Rust tests, then the fmpy tests in
-# tests/python against dist/. Each step says what it does and how long it takes; the first run
-# on a fresh clone takes about 20 minutes on 2 cores (fmi-sim's build is half of it), later runs
-# about 7.
+# tests/python against dist/. Each step says what it does; the first run on a fresh clone takes
+# about 23 minutes on 2 cores (fmi-sim's build a third of it), later runs about 6.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -32,6 +31,11 @@ echo "cargo $have"
 reqs=(tests/python/requirements.txt tests/python/requirements-partners.txt tests/python/requirements-build.txt)
 step "Python environment .venv (fmpy, pytest, numpy, scipy, libcosimpy, ecospy, ziglang, cargo-zigbuild)"
 if [ ! -x .venv/bin/python ] || ! cat "${reqs[@]}" | cmp -s - .venv/.requirements; then
+    # The pins (numpy 2.4, scipy 1.17, libcosimpy 0.0.6) need Python >= 3.11.
+    if ! "${PYTHON:-python3}" -c 'import sys, venv; sys.exit(sys.version_info < (3, 11))' 2>/dev/null; then
+        echo "error: the tests need Python >= 3.11 with venv (Debian: python3 python3-venv); found: $("${PYTHON:-python3}" --version 2>&1 || echo none). Set PYTHON=/path/to/python3.11 to choose one." >&2
+        exit 1
+    fi
     echo "installing the pinned packages of ${reqs[*]} from PyPI (about 250 MB download, 1-2 min)"
     "${PYTHON:-python3}" -m venv .venv
     .venv/bin/python -m pip install --disable-pip-version-check --progress-bar off "${reqs[@]/#/-r}"
