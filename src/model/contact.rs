@@ -848,6 +848,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             return;
         }
         self.dynamics.lifted = self.dynamics.off_at(self.radau.t);
+        self.clear_deformation_if_lifted();
+    }
+
+    /// A body off the support has no deformation.
+    fn clear_deformation_if_lifted(&mut self) {
         if self.dynamics.lifted {
             let mut y = self.radau.y;
             y.as_mut_slice()[..V::DIM].fill(0.0);
@@ -1316,12 +1321,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
                 self.integrate(target, h_max)?;
                 if load_event.is_some() {
                     self.dynamics.lifted = !self.dynamics.lifted;
-                    if self.dynamics.lifted {
-                        // No load, no deformation.
-                        let mut y = self.radau.y;
-                        y.as_mut_slice()[..V::DIM].fill(0.0);
-                        self.radau.y = y;
-                    }
+                    self.clear_deformation_if_lifted();
                     self.radau.restart();
                 }
                 if target == t_b {
