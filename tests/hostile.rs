@@ -3,6 +3,9 @@
 //! can be counted likewise; values outside their accepted range are refused naming the rule;
 //! tolerances are clamped to the range the integrators resolve.
 
+#[allow(dead_code)]
+mod fmi_harness;
+
 use std::path::Path as FsPath;
 
 use vibrofric::description::scene::Scene;
@@ -126,5 +129,25 @@ fn tolerances_are_clamped_to_what_the_integrators_resolve() {
         let mut sim = build(sc.config, sc.start, 0.0, asked).unwrap();
         assert_eq!(sim.tolerance(), used);
         sim.step_to(1e-3).unwrap();
+    }
+}
+
+/// fmi2Instantiate refuses an empty instance name and a resource location whose byte 5 falls
+/// inside a character (it panicked), each with a log line.
+#[test]
+fn instantiate_refuses_with_a_log_line() {
+    let fmu = fmi_harness::load("contact.toml", "instantiate-refusals");
+    let guid = fmu.description.guid.clone();
+    let uri = fmu.resource_uri();
+    for (name, location, why) in [
+        ("", uri.as_str(), "instanceName = \"\""),
+        ("a", "fileé///x/", "must be a file: URI"),
+    ] {
+        let (inst, log) = fmu.instantiate_with(name, 1, Some(&guid), Some(location), false);
+        assert!(inst.is_none(), "{why}");
+        assert!(
+            log.iter().any(|r| r.message.contains(why)),
+            "{why}: {log:?}"
+        );
     }
 }

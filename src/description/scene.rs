@@ -37,6 +37,18 @@ pub const KEYS: [&str; 10] = [
     "start",
 ];
 
+/// A value as an error message shows it: at most 200 characters, then how long it was.
+pub fn shown(s: &str) -> String {
+    const MAX: usize = 200;
+    match s.char_indices().nth(MAX) {
+        None => s.to_string(),
+        Some((cut, _)) => format!("{}… ({} bytes)", &s[..cut], s.len()),
+    }
+}
+
+/// Longest model identifier: it names the FMU file, its library and the C symbols' prefix.
+pub const MAX_IDENTIFIER: usize = 64;
+
 /// The values of the choice keys, as the reader accepts them.
 pub const LAWS: [&str; 3] = ["dahl", "dupont", "lugre"];
 pub const MOTIONS: [&str; 2] = ["longitudinal", "planar"];
@@ -258,12 +270,14 @@ impl Ctx<'_> {
     }
 
     /// The value as written (its TOML text on one line).
+    /// A value as an error message shows it: as written, cut after 200 characters.
     fn shown(&self, v: &Spanned<Value>) -> String {
         let span = v.span();
-        match self.text.get(span) {
+        let s = match self.text.get(span) {
             Some(s) if !s.contains('\n') && !s.is_empty() => s.to_string(),
             _ => v.get_ref().to_string(),
-        }
+        };
+        shown(&s)
     }
 
     fn err(
@@ -421,6 +435,15 @@ impl Scene {
                 ))
             }
             Some((ks, v)) => match v.get_ref().as_str() {
+                Some(s) if s.len() > MAX_IDENTIFIER => {
+                    return Err(ctx.err(
+                        Some(&ks),
+                        "model_identifier",
+                        Some(ctx.shown(&v)),
+                        format!("{} characters: at most {MAX_IDENTIFIER} (it names the FMU file and its library)", s.len()),
+                        vec![],
+                    ))
+                }
                 Some(s) if is_c_identifier(s) => s.to_string(),
                 _ => {
                     return Err(ctx.err(
@@ -718,7 +741,22 @@ impl Scene {
         let description = match get("description") {
             None => summary(&config),
             Some((ks, v)) => match v.get_ref().as_str() {
-                Some(s) => s.to_string(),
+                Some(s) => {
+                    // XML 1.0 cannot hold these, not even escaped.
+                    if let Some(c) = s.chars().find(|&c| {
+                        (c < ' ' && !matches!(c, '\t' | '\n' | '\r'))
+                            || matches!(c, '\u{FFFE}' | '\u{FFFF}')
+                    }) {
+                        return Err(ctx.err(
+                            Some(&ks),
+                            "description",
+                            Some(ctx.shown(&v)),
+                            format!("holds the character U+{:04X}, which XML 1.0 cannot hold (only tab, line feed and carriage return below U+0020)", c as u32),
+                            vec![],
+                        ));
+                    }
+                    s.to_string()
+                }
                 None => {
                     return Err(ctx.err(
                         Some(&ks),
@@ -891,6 +929,32 @@ v_d = 5e-4
         assert!(spring.outputs.contains(&OutputId::FDrive));
         // F_d is then the output vr 101.
         assert!(spring.has_vr(101));
+    }
+
+    #[test]
+    fn text_xml_cannot_hold_long_identifiers_and_long_values_are_refused_or_cut() {
+        for c in ['\u{0}', '\u{1}', '\u{1F}', '\u{FFFE}', '\u{FFFF}'] {
+            let text = planar("", "").replace(
+                "law = ",
+                &format!("description = \"a\\u{:04X}b\"\nlaw = ", c as u32),
+            );
+            let e = err(&text);
+            assert!(
+                e.contains("description") && e.contains(&format!("U+{:04X}", c as u32)),
+                "{e}"
+            );
+        }
+        let ok = planar("", "").replace("law = ", "description = \"tab\\there\"\nlaw = ");
+        assert!(Scene::parse(&ok, "ok.toml").is_ok());
+        let long = "M".repeat(250);
+        let e = err(&planar("", "").replace(
+            "model_identifier = \"X\"",
+            &format!("model_identifier = \"{long}\""),
+        ));
+        assert!(e.contains("250 characters: at most 64"), "{e}");
+        let huge = "x".repeat(10_000_000);
+        let e = err(&planar("", "").replace("law = \"dahl\"", &format!("law = \"{huge}\"")));
+        assert!(e.len() < 1000 && e.contains("bytes)"), "{} bytes", e.len());
     }
 
     #[test]

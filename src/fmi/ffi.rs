@@ -150,18 +150,24 @@ pub unsafe extern "C" fn fmi2Instantiate(
     _visible: fmi2Boolean,
     loggingOn: fmi2Boolean,
 ) -> fmi2Component {
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        let functions = functions.as_ref()?;
-        let name = string(instanceName);
-        let logger: Box<dyn Logger> = match functions.logger {
+    // Without callback functions there is no logger to say why; every other NULL return logs.
+    let Some(functions) = functions.as_ref() else {
+        return ptr::null_mut();
+    };
+    let name = string(instanceName);
+    let make_logger = || -> Box<dyn Logger> {
+        match functions.logger {
             Some(logger) => Box::new(CLogger {
                 logger,
                 env: functions.componentEnvironment,
                 name: CString::new(name.clone().unwrap_or_default()).unwrap_or_default(),
             }),
             None => Box::new(NoLogger),
-        };
-        let Some(name) = name else {
+        }
+    };
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let logger = make_logger();
+        let Some(name) = name.clone() else {
             logger.log(
                 Status::Error,
                 "logStatusError",
@@ -184,7 +190,15 @@ pub unsafe extern "C" fn fmi2Instantiate(
     }));
     match result {
         Ok(Some(p)) => p as fmi2Component,
-        _ => ptr::null_mut(),
+        Ok(None) => ptr::null_mut(),
+        Err(_) => {
+            make_logger().log(
+                Status::Error,
+                "logStatusError",
+                "fmi2Instantiate: internal error (caught); no instance was created",
+            );
+            ptr::null_mut()
+        }
     }
 }
 

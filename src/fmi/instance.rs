@@ -273,6 +273,10 @@ impl Instance {
                 &format!("fmi2Instantiate: {msg}"),
             );
         };
+        if name.is_empty() {
+            fail("instanceName = \"\": must not be empty (importers and logs tell instances apart by it)".into());
+            return None;
+        }
         if fmu_type != CO_SIMULATION {
             fail(format!(
                 "fmuType = {fmu_type}: this FMU implements only fmi2CoSimulation ({CO_SIMULATION})"

@@ -9,15 +9,21 @@
 
 use std::path::PathBuf;
 
+use crate::description::scene::shown;
+
 /// The local folder a `file:` URI names.
 pub fn resource_dir(uri: &str) -> Result<PathBuf, String> {
-    let scheme_ok = uri.len() >= 5 && uri[..5].eq_ignore_ascii_case("file:");
-    if !scheme_ok {
+    // `get` and not an index: a multi-byte character may straddle byte 5.
+    let Some(rest) = uri
+        .get(..5)
+        .filter(|s| s.eq_ignore_ascii_case("file:"))
+        .and_then(|_| uri.get(5..))
+    else {
         return Err(format!(
-            "fmuResourceLocation = \"{uri}\": must be a file: URI such as file:///path/to/resources/"
+            "fmuResourceLocation = \"{}\": must be a file: URI such as file:///path/to/resources/",
+            shown(uri)
         ));
-    }
-    let rest = &uri[5..];
+    };
     let path = match rest.strip_prefix("//") {
         // file:///p, file:////p: empty authority.
         Some(p) if p.starts_with('/') => p,
@@ -25,7 +31,9 @@ pub fn resource_dir(uri: &str) -> Result<PathBuf, String> {
             let (host, path) = p.split_at(p.find('/').unwrap_or(p.len()));
             if !host.eq_ignore_ascii_case("localhost") {
                 return Err(format!(
-                    "fmuResourceLocation = \"{uri}\": host \"{host}\" is not supported, only local files (file:///path/ or file://localhost/path/)"
+                    "fmuResourceLocation = \"{}\": host \"{}\" is not supported, only local files (file:///path/ or file://localhost/path/)",
+                    shown(uri),
+                    shown(host)
                 ));
             }
             path
@@ -34,13 +42,14 @@ pub fn resource_dir(uri: &str) -> Result<PathBuf, String> {
     };
     if !path.starts_with('/') {
         return Err(format!(
-            "fmuResourceLocation = \"{uri}\": must name an absolute path (file:///path/to/resources/)"
+            "fmuResourceLocation = \"{}\": must name an absolute path (file:///path/to/resources/)",
+            shown(uri)
         ));
     }
     // Query and fragment have no meaning for a folder.
     let path = path.split(['?', '#']).next().unwrap_or(path);
-    let bytes =
-        percent_decode(path).map_err(|e| format!("fmuResourceLocation = \"{uri}\": {e}"))?;
+    let bytes = percent_decode(path)
+        .map_err(|e| format!("fmuResourceLocation = \"{}\": {e}", shown(uri)))?;
     // Collapse the leading slashes of file:////p to one.
     let start = bytes.iter().position(|&b| b != b'/').unwrap_or(bytes.len());
     let mut norm = vec![b'/'];
@@ -125,9 +134,22 @@ mod tests {
             ("file:///tmp/%zz/", "percent-escape"),
             ("file:///tmp/%00/", "%00"),
             ("", "file: URI"),
+            // A multi-byte character across byte 5 (this panicked: a slice inside it).
+            ("fileé///x/", "file: URI"),
+            ("filé:///x/", "file: URI"),
+            ("é", "file: URI"),
         ] {
             let e = resource_dir(uri).unwrap_err();
             assert!(e.contains(why), "{uri}: {e}");
         }
+    }
+
+    #[test]
+    fn long_values_are_cut_in_messages() {
+        let long = format!("http://{}", "x".repeat(10_000_000));
+        let e = resource_dir(&long).unwrap_err();
+        assert!(e.len() < 400, "{} bytes", e.len());
+        assert!(e.contains("… (10000007 bytes)"), "{e}");
+        assert_eq!(shown("éé"), "éé");
     }
 }
