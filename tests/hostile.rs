@@ -3,7 +3,7 @@
 //! can be counted likewise; values outside their accepted range are refused naming the rule;
 //! tolerances are clamped to the range the integrators resolve.
 
-#[allow(dead_code)]
+#[allow(unused_macros)]
 mod fmi_harness;
 
 use std::path::Path as FsPath;
