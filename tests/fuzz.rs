@@ -1,0 +1,391 @@
+//! Seeded fuzzing of the C API and of the scene reader, with an invariant oracle.
+//!
+//! C API: random call sequences (in and out of order) on every standard scene's FMU, with values
+//! from the edges of every range and beyond (NaN, ±inf, ±1e300, subnormals, 0, negatives),
+//! unknown value references, wrong communication points, and serialized states that are
+//! corrupted (bit flips, truncation, random bytes). The oracle, after every call:
+//! - the status is one the standard allows for a synchronous FMU (never fmi2Fatal or Pending);
+//! - a call refused with fmi2Error or fmi2Discard changes no value the instance reports;
+//! - fmi2GetReal never returns a non-finite value with fmi2OK;
+//! - fmi2Reset brings an instance back from fmi2Error;
+//! - every call returns within `CALL_BOUND` (an oracle of the fuzzer, not a speed assertion).
+//!
+//! Scene reader: mutated standard scenes never panic; an accepted one exports a model
+//! description that is well-formed XML.
+//!
+//! CI runs a bounded campaign (`VIBROFRIC_FUZZ_CALLS`, default 300 000 calls, about a minute); a long one:
+//! `VIBROFRIC_FUZZ_CALLS=5000000 VIBROFRIC_FUZZ_SEED=7 cargo test --release --test fuzz -- --nocapture`
+
+#[allow(unused_macros)]
+mod fmi_harness;
+
+use std::time::{Duration, Instant};
+
+use fmi_harness::*;
+use vibrofric::description::scene::Scene;
+use vibrofric::description::xml;
+use vibrofric::importer::Status;
+
+/// xorshift64*: small, seeded, reproducible on every platform.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+    fn pick<T: Copy>(&mut self, v: &[T]) -> T {
+        v[self.below(v.len())]
+    }
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+const CALL_BOUND: Duration = Duration::from_secs(10);
+
+fn env_u64(name: &str, default: u64) -> u64 {
+    std::env::var(name)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(default)
+}
+
+/// Values at and beyond the edges of every range.
+fn value(rng: &mut Rng, start: f64) -> f64 {
+    const EDGES: [f64; 22] = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        1e-300,
+        -1e-300,
+        5e-324,
+        1e300,
+        -1e300,
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        1e-12,
+        1e12,
+        1e13,
+        1e7,
+        1e-4,
+        1e6,
+        0.999,
+        0.05,
+        2e-7,
+        1e3,
+    ];
+    match rng.below(4) {
+        0 => rng.pick(&EDGES),
+        1 => start * (1.0 + 0.5 * (rng.unit() - 0.5)),
+        2 => start * 10f64.powf(8.0 * (rng.unit() - 0.5)),
+        _ => -start,
+    }
+}
+
+#[test]
+fn c_api_call_sequences_keep_the_invariants() {
+    let budget = env_u64("VIBROFRIC_FUZZ_CALLS", 300_000);
+    let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
+    let files = [
+        "contact.toml",
+        "contact-lugre.toml",
+        "contact-dupont.toml",
+        "drill-string-axial.toml",
+        "drill-string-contact.toml",
+        "paper-longitudinal.toml",
+        "paper-transverse.toml",
+        "paper-transverse-guided.toml",
+        "rig-longitudinal.toml",
+        "rig-transverse.toml",
+    ];
+    let fmus: Vec<_> = files
+        .iter()
+        .map(|f| (load(f, &format!("fuzz-{f}")), scene(f)))
+        .collect();
+    let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
+    let mut calls = 0u64;
+    let mut slowest = (Duration::ZERO, String::new());
+    let mut by_status = [0u64; 4];
+    while calls < budget {
+        let (fmu, sc) = &fmus[rng.below(fmus.len())];
+        let vrs = all_vrs(sc);
+        let starts: Vec<f64> = sc
+            .variables()
+            .map(|v| sc.start_of(v).unwrap_or(1.0))
+            .collect();
+        let mut inst = fmu.instantiate("fuzz").unwrap();
+        let mut t = 0.0;
+        // Most sequences start from a properly initialized instance, so that the stepping
+        // states are explored as much as the refusals.
+        let init = |inst: &mut vibrofric::importer::Instance| {
+            inst.setup_experiment(Some(1e-6), 0.0, None);
+            inst.enter_initialization_mode();
+            inst.exit_initialization_mode();
+        };
+        if rng.below(4) != 0 {
+            init(&mut inst);
+        }
+        let mut states = vec![];
+        let mut saved: Vec<Vec<u8>> = vec![];
+        for _ in 0..rng.below(200) + 1 {
+            calls += 1;
+            let before = inst.get_real(&vrs).ok();
+            // do_step and set_real most often.
+            let op = rng.pick(&[
+                0, 1, 2, 3, 4, 5, 6, 7, 7, 8, 8, 9, 9, 7, 8, 9, 10, 11, 12, 13, 14, 15,
+            ]);
+            let started = Instant::now();
+            let (status, what) = match op {
+                0 => {
+                    let tol =
+                        rng.pick(&[Some(1e-6), Some(5e-324), Some(1.0), None, Some(f64::NAN)]);
+                    let t0 = rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]);
+                    t = t0;
+                    (
+                        inst.setup_experiment(tol, t0, None),
+                        format!("setup {tol:?} {t0}"),
+                    )
+                }
+                1 => (inst.enter_initialization_mode(), "enter init".into()),
+                2 => (inst.exit_initialization_mode(), "exit init".into()),
+                3..=5 => {
+                    let k = rng.below(vrs.len() + 1);
+                    let (vr, x) = if k == vrs.len() {
+                        (rng.pick(&[0u32, 99, 300, u32::MAX]), 1.0)
+                    } else {
+                        (vrs[k], value(&mut rng, starts[k]))
+                    };
+                    (inst.set_real(&[vr], &[x]), format!("set vr {vr} = {x:e}"))
+                }
+                6 => {
+                    let k = rng.below(vrs.len());
+                    let d = value(&mut rng, 1.0);
+                    (
+                        inst.set_real_input_derivatives(&[vrs[k]], &[rng.pick(&[1, 2, 0])], &[d]),
+                        format!("derivative vr {} = {d:e}", vrs[k]),
+                    )
+                }
+                7..=9 => {
+                    let h = rng.pick(&[
+                        1e-3,
+                        1e-4,
+                        1e-2,
+                        1e-6,
+                        0.0,
+                        -1e-3,
+                        f64::NAN,
+                        2.0f64.powi(-10),
+                    ]);
+                    let current = if rng.below(8) == 0 { t + 1.0 } else { t };
+                    let s = inst.do_step(current, h);
+                    if s == Status::Ok {
+                        t = current + h;
+                    }
+                    (s, format!("do_step {current} {h:e}"))
+                }
+                10 => (
+                    inst.get_real_status(rng.pick(&[2, 0, 7])).0,
+                    "real status".into(),
+                ),
+                11 => match inst.get_state() {
+                    Ok(st) => {
+                        states.push(st);
+                        (Status::Ok, "get state".into())
+                    }
+                    Err(s) => (s, "get state".into()),
+                },
+                12 if !states.is_empty() => {
+                    let k = rng.below(states.len());
+                    (inst.set_state(&states[k]), "set state".into())
+                }
+                13 if !states.is_empty() => {
+                    let k = rng.below(states.len());
+                    match inst.serialize_state(&states[k]) {
+                        Ok(b) => {
+                            saved.push(b);
+                            (Status::Ok, "serialize".into())
+                        }
+                        Err(s) => (s, "serialize".into()),
+                    }
+                }
+                14 if !saved.is_empty() => {
+                    let mut b = saved[rng.below(saved.len())].clone();
+                    match rng.below(4) {
+                        0 => {
+                            let i = rng.below(b.len());
+                            b[i] ^= 1 << rng.below(8);
+                        }
+                        1 => b.truncate(rng.below(b.len())),
+                        2 => {
+                            let from = rng.below(b.len());
+                            b.iter_mut()
+                                .skip(from)
+                                .take(8)
+                                .for_each(|x| *x = rng.next() as u8);
+                        }
+                        _ => {}
+                    }
+                    match inst.deserialize_state(&b) {
+                        Ok(st) => {
+                            let s = inst.set_state(&st);
+                            (s, "deserialize + set".into())
+                        }
+                        Err(s) => (s, "deserialize".into()),
+                    }
+                }
+                15 => {
+                    if rng.below(2) == 0 {
+                        (inst.terminate(), "terminate".into())
+                    } else {
+                        t = 0.0;
+                        (inst.reset(), "reset".into())
+                    }
+                }
+                _ => (
+                    inst.get_real(&vrs).map_or_else(|s| s, |_| Status::Ok),
+                    "get".into(),
+                ),
+            };
+            let took = started.elapsed();
+            assert!(
+                took < CALL_BOUND,
+                "{}: {what} took {took:?}",
+                sc.model_identifier
+            );
+            if took > slowest.0 {
+                slowest = (took, format!("{}: {what}", sc.model_identifier));
+            }
+            assert!(
+                matches!(
+                    status,
+                    Status::Ok | Status::Warning | Status::Discard | Status::Error
+                ),
+                "{}: {what} returned {status:?}",
+                sc.model_identifier
+            );
+            by_status[match status {
+                Status::Ok => 0,
+                Status::Warning => 1,
+                Status::Discard => 2,
+                _ => 3,
+            }] += 1;
+            let after = inst.get_real(&vrs);
+            if let Ok(values) = &after {
+                if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+                    panic!(
+                        "{}: after {what}, vr {} = {} with fmi2OK",
+                        sc.model_identifier, vrs[k], values[k]
+                    );
+                }
+            }
+            let refused = matches!(status, Status::Error | Status::Discard);
+            let values_change = matches!(op, 12 | 14 | 15);
+            if refused && !values_change {
+                if let (Some(b), Ok(a)) = (&before, &after) {
+                    assert_eq!(
+                        bits(b),
+                        bits(a),
+                        "{}: {what} was refused but changed values",
+                        sc.model_identifier
+                    );
+                }
+            }
+            if status == Status::Error {
+                // The standard's way out of an error.
+                let s = inst.reset();
+                assert_eq!(
+                    s,
+                    Status::Ok,
+                    "{}: reset after {what}: {}",
+                    sc.model_identifier,
+                    inst.last_message()
+                );
+                t = 0.0;
+                if rng.below(4) != 0 {
+                    init(&mut inst);
+                }
+            }
+        }
+        for st in states {
+            inst.free_state(st);
+        }
+    }
+    println!(
+        "{calls} calls (seed {seed}): {} OK, {} warning, {} discard, {} error; slowest {:?} ({})",
+        by_status[0], by_status[1], by_status[2], by_status[3], slowest.0, slowest.1
+    );
+}
+
+#[test]
+fn mutated_scenes_never_panic_and_accepted_ones_export_well_formed_xml() {
+    let budget = env_u64("VIBROFRIC_FUZZ_SCENES", 4_000);
+    let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
+    let mut rng = Rng(seed.wrapping_mul(0xd1b5_4a32_d192_ed03) | 1);
+    let texts: Vec<String> = std::fs::read_dir("scenes")
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect();
+    const INSERTS: [&str; 12] = [
+        "\u{0}",
+        "\u{1f}",
+        "\u{fffe}",
+        "\"",
+        "\n",
+        "[start]\n",
+        "= 1e999",
+        "é",
+        "\\u0000",
+        "[[x]]\n",
+        "nan",
+        "9999999999999999999999",
+    ];
+    let (mut accepted, mut refused) = (0, 0);
+    for _ in 0..budget {
+        let mut b = texts[rng.below(texts.len())].clone().into_bytes();
+        for _ in 0..rng.below(4) + 1 {
+            let i = rng.below(b.len() + 1);
+            match rng.below(3) {
+                0 if i < b.len() => b[i] = rng.next() as u8,
+                1 => {
+                    let ins = rng.pick(&INSERTS).as_bytes().to_vec();
+                    b.splice(i..i, ins);
+                }
+                _ => b.truncate(i),
+            }
+        }
+        let text = String::from_utf8_lossy(&b).into_owned();
+        match std::panic::catch_unwind(|| Scene::parse(&text, "fuzz.toml").map_err(Box::new)) {
+            Err(_) => panic!("the scene reader panicked on:\n{text}"),
+            Ok(Err(e)) => {
+                refused += 1;
+                assert!(
+                    !e.key.is_empty() || e.to_string().contains("fuzz.toml"),
+                    "{e}"
+                );
+            }
+            Ok(Ok(sc)) => {
+                accepted += 1;
+                let md = xml::model_description(&sc);
+                let mut reader = quick_xml::Reader::from_str(&md);
+                loop {
+                    match reader.read_event() {
+                        Ok(quick_xml::events::Event::Eof) => break,
+                        Ok(_) => {}
+                        Err(e) => panic!("ill-formed XML ({e}) from:\n{text}"),
+                    }
+                }
+            }
+        }
+    }
+    println!("{budget} mutated scenes: {accepted} accepted, {refused} refused with an error");
+}
