@@ -471,8 +471,9 @@ impl FrictionLaw for LuGre {
         let (rate_s, rate_v) = {
             let ex = (-r2 * self.inv_v_s2).exp();
             let g_raw = (self.f_c + (self.f_s - self.f_c) * ex) / self.k_t;
-            let g = g_raw.max(1e-290);
-            let grad_g = if g_raw > 1e-290 {
+            // The floor of `g` (see `LuGre::g`): flat below it.
+            let g = self.g(r2);
+            let grad_g = if g_raw >= g {
                 vr * ((self.f_s - self.f_c) * ex * (-2.0 * self.inv_v_s2) / self.k_t)
             } else {
                 V::default()

@@ -229,8 +229,8 @@ impl ParamId {
             ParamId::VS | ParamId::VE => Rule::new(Positive, 1e-9, 1e2),
             ParamId::ZetaT => Rule::new(NonNegative, 0.0, 1e3),
             ParamId::HV | ParamId::CD => Rule::new(NonNegative, 0.0, 1e9),
-            ParamId::U0 => Rule::new(NonNegative, 0.0, 0.1),
-            ParamId::F => Rule::new(NonNegative, 0.0, 1e7), // to 10 MHz
+            ParamId::U0 => Rule::new(NonNegative, 0.0, 0.01), // to 1 cm
+            ParamId::F => Rule::new(NonNegative, 0.0, 1e7),   // to 10 MHz
             ParamId::Angle | ParamId::Phase => Rule::new(Any, -1e4, 1e4),
             ParamId::KD => Rule::new(NonNegative, 0.0, 1e13),
             ParamId::TAvg => Rule::new(Positive, 1e-9, 1e6),
