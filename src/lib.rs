@@ -23,3 +23,4 @@ pub mod importer;
 pub mod model;
 pub mod physics;
 pub mod solver;
+pub mod table;

@@ -8,10 +8,4 @@ pub mod scene;
 pub mod variables;
 pub mod xml;
 
-/// The model descriptions `build.rs` generated from `scenes/*.toml` at build time, with the same
-/// code as [`xml::model_description`].
-pub mod generated {
-    include!(concat!(env!("OUT_DIR"), "/model_descriptions.rs"));
-}
-
 pub use scene::{Scene, SceneError};

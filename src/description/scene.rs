@@ -5,8 +5,8 @@
 //! values of its parameters and inputs. Reading one checks every key against its rule and reports
 //! the first violation as `<file>:<line>: <key> = <value>: <rule>; valid: <list>`.
 //!
-//! Depends only on `physics/params.rs`, `model/config.rs`, `model/ids.rs` and
-//! `description/variables.rs` (plus serde and toml), so that `build.rs` can include it.
+//! Depends only on the variable table (`src/table`) and `description/variables.rs` (plus serde
+//! and toml).
 
 // A scene is read once per export or instantiation, and the error is the product the user reads:
 // keep its fields plain rather than boxing them.

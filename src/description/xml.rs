@@ -1,8 +1,7 @@
 //! The FMI 2.0 Co-Simulation `modelDescription.xml` of a scene, written with quick-xml from the
 //! variable table ([`crate::description::variables::VARIABLES`]) and nothing else.
 //!
-//! Depends only on the table, the scene and the model's identifiers (no solver, no FMI), so that
-//! `build.rs` can include it.
+//! Depends only on the table and the scene (no solver, no FMI).
 //!
 //! Choices documented here because the standard leaves them open:
 //! - `DefaultExperiment`: 0 to 0.1 s (200 periods of the default 2 kHz excitation), relative
@@ -19,9 +18,7 @@ use quick_xml::Writer;
 use sha2::{Digest, Sha256};
 
 use crate::description::scene::Scene;
-use crate::description::variables::{Causality, Initial, VarKind, Variable};
-use crate::model::{Config, Drive, InputId, Law, OutputId};
-use crate::physics::ParamId;
+use crate::description::variables::{Causality, Initial, Variable};
 
 /// `DefaultExperiment` of every FMU: (startTime, stopTime, tolerance, stepSize).
 pub const DEFAULT_EXPERIMENT: (f64, f64, f64, f64) = (0.0, 0.1, 1e-6, 1e-3);
@@ -92,91 +89,12 @@ pub fn number(x: f64) -> String {
     }
 }
 
-/// What an output depends on at initialization (`ModelStructure/InitialUnknowns`): derived from
-/// the equations of `docs/model.md` at the start time with zero deformation, the body at rest at the
-/// origin and the spring's far end at `x_d = 0`.
-///
-/// - `s`, `x`, `y`, `v_y` are 0: no dependency; `v_x` is `v_d` in velocity drive, else 0.
-/// - Dahl and Dupont: `F_F = k_t·s = 0`, `P_diss = 0`: no dependency.
-/// - LuGre: `ds/dt = v_r` (0 when `F_C = F_S = 0`), so `F_F = (h_t(|v_r|) + h_v)·v_r` with
-///   `h_t = 2·zeta_t·sqrt(m·k_t)·exp(−|v_r|²/v_e²)`; `v_r = v − v_s` depends on `v_d` (velocity
-///   drive), the harmonic source (`u0`, `f`, `phase`, `angle`) and the input support velocities.
-///   `P_diss = F_F·v_r` has the same dependencies.
-/// - `F_mean` and the step means = `F_F` at the start; `reduction = 1 − F_mean/F_C` adds `F_N`,
-///   `mu`.
-/// - Spring drive: `F_d = c_d·v_d`.
-pub fn initial_dependencies(v: &Variable, c: &Config) -> Vec<VarKind> {
-    let out = match v.kind {
-        VarKind::Output(o) => o,
-        VarKind::Input(InputId::FD) if c.drive == Drive::Spring => OutputId::FDrive,
-        _ => return vec![],
-    };
-    let relative_velocity = || {
-        let mut d = vec![];
-        if c.drive == Drive::Velocity {
-            d.push(VarKind::Input(InputId::VD));
-        }
-        if c.harmonic {
-            d.extend([ParamId::U0, ParamId::F, ParamId::Phase].map(VarKind::Param));
-            if c.planar() {
-                d.push(VarKind::Param(ParamId::Angle));
-            }
-        }
-        if c.input_support {
-            d.push(VarKind::Input(InputId::VSx));
-            if c.planar() {
-                d.push(VarKind::Input(InputId::VSy));
-            }
-        }
-        d
-    };
-    let friction = || {
-        if c.law != Law::LuGre {
-            return vec![];
-        }
-        let mut d: Vec<VarKind> = [
-            ParamId::M,
-            ParamId::FN,
-            ParamId::Mu,
-            ParamId::KT,
-            ParamId::FS,
-            ParamId::ZetaT,
-            ParamId::HV,
-            ParamId::VE,
-        ]
-        .map(VarKind::Param)
-        .to_vec();
-        d.extend(relative_velocity());
-        d
-    };
-    match out {
-        OutputId::FFx
-        | OutputId::FFy
-        | OutputId::FMean
-        | OutputId::PDiss
-        | OutputId::FFxStep
-        | OutputId::FFyStep => friction(),
-        OutputId::Reduction => {
-            let mut d = friction();
-            for p in [ParamId::FN, ParamId::Mu] {
-                if !d.contains(&VarKind::Param(p)) {
-                    d.push(VarKind::Param(p));
-                }
-            }
-            d
-        }
-        OutputId::Vx if c.drive == Drive::Velocity => vec![VarKind::Input(InputId::VD)],
-        OutputId::FDrive => vec![VarKind::Param(ParamId::CD), VarKind::Input(InputId::VD)],
-        _ => vec![],
-    }
-}
-
-/// 1-based `ModelVariables` indices of the variables of `kinds` that the scene carries, sorted.
-fn indices(vars: &[&Variable], kinds: &[VarKind]) -> Vec<usize> {
+/// 1-based `ModelVariables` indices of the variables with these value references, sorted.
+fn indices(vars: &[&Variable], vrs: &[u32]) -> Vec<usize> {
     let mut idx: Vec<usize> = vars
         .iter()
         .enumerate()
-        .filter(|(_, v)| kinds.contains(&v.kind))
+        .filter(|(_, v)| vrs.contains(&v.vr))
         .map(|(i, _)| i + 1)
         .collect();
     idx.sort_unstable();
@@ -391,16 +309,8 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
         .collect();
     open(w, "Outputs", &[])?;
     for (index, v) in &outputs {
-        let kinds: Vec<VarKind> = v
-            .input_dependencies(c)
-            .into_iter()
-            .map(|i| match i {
-                // The input F_N is the parameter F_N's variable.
-                InputId::FN => VarKind::Param(ParamId::FN),
-                i => VarKind::Input(i),
-            })
-            .collect();
-        let deps = joined(&indices(&vars, &kinds));
+        let vrs: Vec<u32> = v.input_dependencies(c).iter().map(|i| i.vr()).collect();
+        let deps = joined(&indices(&vars, &vrs));
         let index = index.to_string();
         empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
     }
@@ -410,7 +320,8 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
         if v.initial(c) != Some(Initial::Calculated) {
             continue;
         }
-        let deps = joined(&indices(&vars, &initial_dependencies(v, c)));
+        let vrs: Vec<u32> = v.initial_dependencies(c).iter().map(|d| d.vr()).collect();
+        let deps = joined(&indices(&vars, &vrs));
         let index = index.to_string();
         empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
     }

@@ -5,13 +5,12 @@
 //! drive (see `contact.rs`); the support sources are chosen at run time, where they cost one
 //! branch.
 
-mod config;
 mod contact;
 mod exact;
 mod ids;
 mod simulator;
 
-pub use config::{Config, Drive, Lateral, Law, Motion};
+pub use crate::table::{Config, Drive, Lateral, Law, Motion};
 pub use contact::{canonical_time, MAX_INPUT_RATE};
 pub use ids::{check_param, param_present, param_rule, InputId, Inputs, OutputId, Outputs};
 pub use simulator::{build, build_on, Ode, Path, SimError, Simulator, StepStats, TOLERANCE_RANGE};

@@ -1,0 +1,279 @@
+//! The macros that turn the declarations of `table.rs` into code: one declaration per variable
+//! becomes its struct field, its default, its id, its name, value reference, unit, rule and
+//! presence. Nothing here names a variable; read `table.rs` for the variables themselves.
+
+/// Number of identifiers given, as a constant expression.
+macro_rules! count {
+    () => { 0usize };
+    ($head:ident $($tail:ident)*) => { 1usize + count!($($tail)*) };
+}
+
+/// Calls the presence predicate `$present` (a closure of the declaration) on a configuration.
+macro_rules! present {
+    ($present:expr, $c:expr) => {{
+        let present: fn(&Config) -> bool = $present;
+        present($c)
+    }};
+}
+
+/// Declares the parameters: the struct [`Params`] with its `Default`, the id enum [`ParamId`]
+/// and every fact of each parameter as a method of it.
+macro_rules! parameters {
+    ($(
+        $(#[doc = $doc:literal])*
+        $id:ident => $field:ident {
+            name: $name:literal,
+            vr: $vr:literal,
+            unit: $unit:literal,
+            display: $display:expr,
+            default: $default:expr,
+            rule: $rule:expr,
+            $(narrowed: $narrowed:expr,)?
+            variability: $variability:ident,
+            present: $present:expr,
+            description: $description:literal $(,)?
+        }
+    )*) => {
+        /// Every parameter of every scene. A scene uses a subset; the others keep their defaults
+        /// and are never read by the arithmetic of that scene.
+        #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+        pub struct Params {
+            $( #[doc = $description] $(#[doc = $doc])* pub $field: f64, )*
+        }
+
+        impl Default for Params {
+            fn default() -> Self {
+                Params { $( $field: $default, )* }
+            }
+        }
+
+        /// Identifies one parameter, for generic access (scenes, the model description, get
+        /// and set by value reference).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum ParamId {
+            $( #[doc = $description] $(#[doc = $doc])* $id, )*
+        }
+
+        impl ParamId {
+            /// Every parameter, in declaration (value reference) order.
+            pub const ALL: [ParamId; count!($($id)*)] = [$(ParamId::$id),*];
+
+            /// The variable name.
+            pub const fn name(self) -> &'static str {
+                match self { $( ParamId::$id => $name, )* }
+            }
+
+            /// The value reference.
+            pub const fn vr(self) -> u32 {
+                match self { $( ParamId::$id => $vr, )* }
+            }
+
+            /// The unit, as named in the model description's `UnitDefinitions`.
+            pub const fn unit(self) -> &'static str {
+                match self { $( ParamId::$id => $unit, )* }
+            }
+
+            /// The display unit an importer's GUI may show, if any.
+            pub const fn display_unit(self) -> Option<&'static str> {
+                match self { $( ParamId::$id => $display, )* }
+            }
+
+            /// The model description's `description`.
+            pub const fn description(self) -> &'static str {
+                match self { $( ParamId::$id => $description, )* }
+            }
+
+            /// The value before any scene or importer sets it.
+            pub fn default_value(self) -> f64 {
+                match self { $( ParamId::$id => $default, )* }
+            }
+
+            /// The accepted range in every scene (see [`Rule`]).
+            pub const fn rule(self) -> Rule {
+                match self { $( ParamId::$id => $rule, )* }
+            }
+
+            /// The accepted range in a scene with this configuration: the rule, narrowed where
+            /// the declaration says so.
+            pub fn rule_in(self, c: &Config) -> Rule {
+                match self {
+                    $( ParamId::$id => {
+                        let rule = $rule;
+                        $( let narrowed: fn(&Config, Rule) -> Rule = $narrowed;
+                           let rule = narrowed(c, rule); )?
+                        let _ = c;
+                        rule
+                    } )*
+                }
+            }
+
+            /// `fixed`, or `tunable` where the parameter may change during the simulation.
+            pub const fn variability(self) -> Variability {
+                match self { $( ParamId::$id => Variability::$variability, )* }
+            }
+
+            /// True when the parameter may change during the simulation.
+            pub const fn tunable(self) -> bool {
+                matches!(self.variability(), Variability::Tunable)
+            }
+
+            /// True when a scene with this configuration has the parameter.
+            pub fn present(self, c: &Config) -> bool {
+                match self { $( ParamId::$id => present!($present, c), )* }
+            }
+
+            pub fn get(self, p: &Params) -> f64 {
+                match self { $( ParamId::$id => p.$field, )* }
+            }
+
+            pub(super) fn slot(self, p: &mut Params) -> &mut f64 {
+                match self { $( ParamId::$id => &mut p.$field, )* }
+            }
+        }
+    };
+}
+
+/// Declares the inputs: the struct [`Inputs`] (their values at one instant) and the id enum
+/// [`InputId`] with every fact of each input.
+macro_rules! inputs {
+    ($(
+        $(#[doc = $doc:literal])*
+        $id:ident => $field:ident {
+            name: $name:literal,
+            vr: $vr:literal,
+            unit: $unit:literal,
+            display: $display:expr,
+            rule: $rule:expr,
+            present: $present:expr,
+            description: $description:literal $(,)?
+        }
+    )*) => {
+        /// The importer's inputs at one instant.
+        #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+        pub struct Inputs {
+            $( #[doc = $description] $(#[doc = $doc])* pub $field: f64, )*
+        }
+
+        /// Identifies one input, for generic access.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum InputId {
+            $( #[doc = $description] $(#[doc = $doc])* $id, )*
+        }
+
+        impl InputId {
+            /// Every input, in declaration order (the order of input tracks).
+            pub const ALL: [InputId; count!($($id)*)] = [$(InputId::$id),*];
+
+            pub const fn name(self) -> &'static str {
+                match self { $( InputId::$id => $name, )* }
+            }
+
+            pub const fn vr(self) -> u32 {
+                match self { $( InputId::$id => $vr, )* }
+            }
+
+            pub const fn unit(self) -> &'static str {
+                match self { $( InputId::$id => $unit, )* }
+            }
+
+            pub const fn display_unit(self) -> Option<&'static str> {
+                match self { $( InputId::$id => $display, )* }
+            }
+
+            pub const fn description(self) -> &'static str {
+                match self { $( InputId::$id => $description, )* }
+            }
+
+            /// The accepted range of the input's value.
+            pub const fn rule(self) -> Rule {
+                match self { $( InputId::$id => $rule, )* }
+            }
+
+            /// True when a scene with this configuration has the input.
+            pub fn present(self, c: &Config) -> bool {
+                match self { $( InputId::$id => present!($present, c), )* }
+            }
+
+            /// Position in [`InputId::ALL`].
+            pub const fn index(self) -> usize {
+                self as usize
+            }
+
+            pub fn get(self, i: &Inputs) -> f64 {
+                match self { $( InputId::$id => i.$field, )* }
+            }
+
+            pub fn slot(self, i: &mut Inputs) -> &mut f64 {
+                match self { $( InputId::$id => &mut i.$field, )* }
+            }
+        }
+    };
+}
+
+/// Declares the outputs: the struct [`Outputs`] (everything the contact reports at one instant)
+/// and the id enum [`OutputId`] with every fact of each output.
+macro_rules! outputs {
+    ($(
+        $(#[doc = $doc:literal])*
+        $id:ident => $field:ident {
+            name: $name:literal,
+            vr: $vr:literal,
+            unit: $unit:literal,
+            display: $display:expr,
+            present: $present:expr,
+            depends: $depends:ident,
+            description: $description:literal $(,)?
+        }
+    )*) => {
+        /// Everything the contact reports at one instant.
+        #[derive(Clone, Copy, Debug, Default, PartialEq)]
+        pub struct Outputs {
+            $( #[doc = $description] $(#[doc = $doc])* pub $field: f64, )*
+        }
+
+        /// Identifies one output, for generic access.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum OutputId {
+            $( #[doc = $description] $(#[doc = $doc])* $id, )*
+        }
+
+        impl OutputId {
+            /// Every output, in declaration order (the order of a scene's `outputs`).
+            pub const ALL: [OutputId; count!($($id)*)] = [$(OutputId::$id),*];
+
+            pub const fn name(self) -> &'static str {
+                match self { $( OutputId::$id => $name, )* }
+            }
+
+            pub const fn vr(self) -> u32 {
+                match self { $( OutputId::$id => $vr, )* }
+            }
+
+            pub const fn unit(self) -> &'static str {
+                match self { $( OutputId::$id => $unit, )* }
+            }
+
+            pub const fn display_unit(self) -> Option<&'static str> {
+                match self { $( OutputId::$id => $display, )* }
+            }
+
+            pub const fn description(self) -> &'static str {
+                match self { $( OutputId::$id => $description, )* }
+            }
+
+            /// True when a scene with this configuration can have the output.
+            pub fn present(self, c: &Config) -> bool {
+                match self { $( OutputId::$id => present!($present, c), )* }
+            }
+
+            /// What the output depends on (see [`Depends`]).
+            pub const fn depends(self) -> Depends {
+                match self { $( OutputId::$id => Depends::$depends, )* }
+            }
+
+            pub fn get(self, o: &Outputs) -> f64 {
+                match self { $( OutputId::$id => o.$field, )* }
+            }
+        }
+    };
+}
