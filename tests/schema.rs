@@ -1,0 +1,161 @@
+//! The checked-in model descriptions read back with rust-fmi's `fmi-schema` (the FMI 2.0 schema
+//! as Rust types, a parser that shares nothing with vibrofric's writer) and compared with the
+//! variable table: every variable with its value reference, causality, variability, `initial`,
+//! start value and description, and `ModelStructure` with the dependencies the table declares.
+
+use std::path::PathBuf;
+use std::str::FromStr;
+
+use fmi_schema::fmi2::{Causality as SchemaCausality, Fmi2ModelDescription, ScalarVariableElement};
+use vibrofric::description::variables::{Causality, Initial, Variability};
+use vibrofric::description::Scene;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Every standard scene with its checked-in model description, parsed by the schema.
+fn described_scenes() -> Vec<(Scene, Fmi2ModelDescription)> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("scenes"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 10, "the standard scenes are missing");
+    files
+        .iter()
+        .map(|path| {
+            let scene = Scene::load(path).unwrap_or_else(|e| panic!("{e}"));
+            let xml_path = root()
+                .join("modelDescription")
+                .join(format!("{}.xml", scene.model_identifier));
+            let xml = std::fs::read_to_string(&xml_path).unwrap();
+            let md = Fmi2ModelDescription::from_str(&xml)
+                .unwrap_or_else(|e| panic!("{}: {e:?}", xml_path.display()));
+            (scene, md)
+        })
+        .collect()
+}
+
+#[test]
+fn descriptions_are_fmi2_co_simulation_of_their_scene() {
+    for (scene, md) in described_scenes() {
+        assert_eq!(md.fmi_version, "2.0");
+        assert_eq!(md.model_name, scene.model_identifier);
+        let cs = md.co_simulation.as_ref().expect("a CoSimulation element");
+        assert_eq!(cs.model_identifier, scene.model_identifier);
+        assert!(md.model_exchange.is_none());
+        assert_eq!(md.description.as_deref(), Some(scene.description.as_str()));
+    }
+}
+
+#[test]
+fn every_variable_is_the_table_row_of_its_scene() {
+    for (scene, md) in described_scenes() {
+        let c = &scene.config;
+        let rows: Vec<_> = scene.variables().collect();
+        let vars = &md.model_variables.variables;
+        assert_eq!(vars.len(), rows.len(), "{}", scene.model_identifier);
+        for (v, row) in vars.iter().zip(&rows) {
+            let id = format!("{} {}", scene.model_identifier, row.name());
+            assert_eq!(v.name, row.name(), "{id}");
+            assert_eq!(v.value_reference, row.vr, "{id}");
+            assert_eq!(v.description.as_deref(), Some(row.description), "{id}");
+            let causality = match row.causality(c) {
+                Causality::Parameter => SchemaCausality::Parameter,
+                Causality::Input => SchemaCausality::Input,
+                Causality::Output => SchemaCausality::Output,
+            };
+            assert_eq!(v.causality, causality, "{id}");
+            let variability = v.variability.as_ref().map(|x| x.to_string());
+            assert_eq!(
+                variability.as_deref(),
+                Some(row.variability(c).as_str()),
+                "{id}"
+            );
+            let initial = v.initial.as_ref().map(|x| x.to_string());
+            assert_eq!(
+                initial.as_deref(),
+                row.initial(c).map(Initial::as_str),
+                "{id}"
+            );
+            let ScalarVariableElement::Real(real) = &v.elem else {
+                panic!("{id}: every variable is Real");
+            };
+            let start = scene.start_of(row);
+            assert_eq!(real.start, start, "{id}");
+            if row.causality(c) == Causality::Input {
+                assert_eq!(row.variability(c), Variability::Continuous, "{id}");
+            }
+        }
+    }
+}
+
+#[test]
+fn model_structure_lists_the_declared_dependencies() {
+    for (scene, md) in described_scenes() {
+        let c = &scene.config;
+        let vars = &md.model_variables.variables;
+        let vr_at = |index: u32| vars[index as usize - 1].value_reference;
+        let outputs: Vec<u32> = vars
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.causality == SchemaCausality::Output)
+            .map(|(i, _)| i as u32 + 1)
+            .collect();
+        let listed: Vec<u32> = md
+            .model_structure
+            .outputs
+            .unknowns
+            .iter()
+            .map(|u| u.index)
+            .collect();
+        assert_eq!(listed, outputs, "{}", scene.model_identifier);
+        for u in &md.model_structure.outputs.unknowns {
+            let row = scene.variables().find(|r| r.vr == vr_at(u.index)).unwrap();
+            let mut declared: Vec<u32> = row.input_dependencies(c).iter().map(|i| i.vr()).collect();
+            let mut written: Vec<u32> = u.dependencies.iter().map(|&i| vr_at(i)).collect();
+            declared.sort_unstable();
+            written.sort_unstable();
+            assert_eq!(
+                written,
+                declared,
+                "{} {}",
+                scene.model_identifier,
+                row.name()
+            );
+            for &d in &u.dependencies {
+                assert_eq!(vars[d as usize - 1].causality, SchemaCausality::Input);
+            }
+        }
+        for u in &md.model_structure.initial_unknowns.unknowns {
+            let row = scene.variables().find(|r| r.vr == vr_at(u.index)).unwrap();
+            let mut declared: Vec<u32> =
+                row.initial_dependencies(c).iter().map(|d| d.vr()).collect();
+            let mut written: Vec<u32> = u.dependencies.iter().map(|&i| vr_at(i)).collect();
+            declared.sort_unstable();
+            written.sort_unstable();
+            assert_eq!(
+                written,
+                declared,
+                "{} {}",
+                scene.model_identifier,
+                row.name()
+            );
+            for &d in &u.dependencies {
+                let dep = &vars[d as usize - 1];
+                assert!(
+                    matches!(
+                        dep.causality,
+                        SchemaCausality::Input | SchemaCausality::Parameter
+                    ),
+                    "{} {}: depends on {}",
+                    scene.model_identifier,
+                    row.name(),
+                    dep.name
+                );
+            }
+        }
+    }
+}
