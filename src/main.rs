@@ -22,13 +22,16 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+
+mod elf;
+mod simulate;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
 use vibrofric::description::variables::Causality;
 use vibrofric::description::{docs, xml, Scene};
-use vibrofric::importer::Fmu;
 use vibrofric::model::{self, InputId};
+use vibrofric_import::Fmu;
 
 /// FMI 2.0 platform directory of this build.
 const PLATFORM: &str = if cfg!(target_os = "windows") {
@@ -94,6 +97,9 @@ enum Command {
         #[arg(long)]
         check: bool,
     },
+    /// Run a scene with the core directly (no FMU) and print its outputs as CSV, one row per
+    /// communication point, as fmpy's co-simulation loop places them.
+    Simulate(simulate::Options),
 }
 
 fn main() -> ExitCode {
@@ -113,6 +119,7 @@ fn main() -> ExitCode {
             library.as_deref(),
             check,
         ),
+        Some(Command::Simulate(o)) => simulate::run(&o).map(|csv| print!("{csv}")),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -236,6 +243,8 @@ fn portable_library() -> Result<Option<PathBuf>, String> {
         .args([
             "zigbuild",
             "--release",
+            "--package",
+            "vibrofric",
             "--lib",
             "--target",
             PORTABLE_TARGET,
@@ -248,7 +257,7 @@ fn portable_library() -> Result<Option<PathBuf>, String> {
         .map_err(|e| format!("cannot run {}: {e}", cargo.to_string_lossy()))?;
     if !status.success() {
         return Err(format!(
-            "`cargo zigbuild --release --lib --target {PORTABLE_TARGET}` failed ({status})"
+            "`cargo zigbuild --release --package vibrofric --lib --target {PORTABLE_TARGET}` failed ({status})"
         ));
     }
     let lib = target_dir
@@ -301,7 +310,7 @@ fn platform_line(lib: &Path, source: &str) -> Result<(String, docs::Binary), Str
             },
         ));
     }
-    let needs = vibrofric::elf::file_needs(lib)?;
+    let needs = elf::file_needs(lib)?;
     let glibc = needs.max_glibc().map(|v| v.to_string());
     let need = glibc
         .as_deref()

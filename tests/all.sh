@@ -71,8 +71,8 @@ else
 fi
 export FMI_SIM="$fmi_sim_root/bin/fmi-sim"
 
-step "cargo build --release (library, exporter, examples)"
-cargo build --release --lib --bins --examples
+step "cargo build --release (FMU library, importer, exporter, examples)"
+cargo build --release --workspace --lib --bins --examples
 
 # VIBROFRIC_PORTABLE=1: the exporter must build the shipped library for glibc 2.17 with the
 # cargo-zigbuild of .venv (docs/platforms.md), so the tests below check portable binaries.

@@ -9,7 +9,7 @@ mod fmi_harness;
 use std::ptr;
 
 use fmi_harness::*;
-use vibrofric::importer::{Fmu, Instance, Status};
+use vibrofric_import::{Fmu, Instance, Status};
 
 const H: f64 = 1e-3;
 
@@ -148,7 +148,7 @@ fn check(fmu: &Fmu, vrs: &[u32], c: &Case) {
     ok!(b, b.free_state(saved));
 }
 
-fn raw(i: &Instance) -> (vibrofric::importer::Functions, *mut std::ffi::c_void) {
+fn raw(i: &Instance) -> (vibrofric_import::Functions, *mut std::ffi::c_void) {
     (*i.functions(), i.raw())
 }
 
@@ -168,7 +168,7 @@ fn null_arrays_with_nonzero_length() {
             |i| {
                 let (f, c) = raw(i);
                 let mut v = [0.0; 2];
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2GetReal)(c, ptr::null(), 2, v.as_mut_ptr())
                 })
             },
@@ -180,7 +180,7 @@ fn null_arrays_with_nonzero_length() {
             &["fmi2GetReal", "value = NULL"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2GetReal)(c, [201].as_ptr(), 1, ptr::null_mut())
                 })
             },
@@ -192,7 +192,7 @@ fn null_arrays_with_nonzero_length() {
             &["fmi2SetReal", "value = NULL"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2SetReal)(c, [101].as_ptr(), 1, ptr::null())
                 })
             },
@@ -204,7 +204,7 @@ fn null_arrays_with_nonzero_length() {
             &["fmi2SetReal", "vr = NULL"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2SetReal)(c, ptr::null(), 1, [1.0].as_ptr())
                 })
             },
@@ -216,7 +216,7 @@ fn null_arrays_with_nonzero_length() {
             &["fmi2SetRealInputDerivatives", "order = NULL"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2SetRealInputDerivatives)(
                         c,
                         [101].as_ptr(),
@@ -234,7 +234,7 @@ fn null_arrays_with_nonzero_length() {
             &["fmi2GetFMUstate", "FMUstate = NULL"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe { (f.fmi2GetFMUstate)(c, ptr::null_mut()) })
+                vibrofric_import::status(unsafe { (f.fmi2GetFMUstate)(c, ptr::null_mut()) })
             },
         ),
         case(
@@ -244,7 +244,7 @@ fn null_arrays_with_nonzero_length() {
             &["fmi2SetFMUstate", "NULL"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe { (f.fmi2SetFMUstate)(c, ptr::null_mut()) })
+                vibrofric_import::status(unsafe { (f.fmi2SetFMUstate)(c, ptr::null_mut()) })
             },
         ),
         case(
@@ -256,7 +256,7 @@ fn null_arrays_with_nonzero_length() {
                 let s = i.get_state().unwrap();
                 let n = i.serialize_state(&s).unwrap().len();
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2SerializeFMUstate)(c, s.raw(), ptr::null_mut(), n)
                 })
             },
@@ -270,7 +270,7 @@ fn null_arrays_with_nonzero_length() {
                 let s = i.get_state().unwrap();
                 let (f, c) = raw(i);
                 let mut buf = [0i8; 8];
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2SerializeFMUstate)(c, s.raw(), buf.as_mut_ptr() as *mut _, 8)
                 })
             },
@@ -283,7 +283,7 @@ fn null_arrays_with_nonzero_length() {
             |i| {
                 let (f, c) = raw(i);
                 let mut p = ptr::null_mut();
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2DeSerializeFMUstate)(c, ptr::null(), 10, &mut p)
                 })
             },
@@ -295,9 +295,7 @@ fn null_arrays_with_nonzero_length() {
             &["fmi2SetDebugLogging", "categories = NULL"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe {
-                    (f.fmi2SetDebugLogging)(c, 1, 2, ptr::null())
-                })
+                vibrofric_import::status(unsafe { (f.fmi2SetDebugLogging)(c, 1, 2, ptr::null()) })
             },
         ),
         case(
@@ -307,7 +305,7 @@ fn null_arrays_with_nonzero_length() {
             &["fmi2GetRealStatus", "value = NULL"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe { (f.fmi2GetRealStatus)(c, 2, ptr::null_mut()) })
+                vibrofric_import::status(unsafe { (f.fmi2GetRealStatus)(c, 2, ptr::null_mut()) })
             },
         ),
     ];
@@ -472,7 +470,7 @@ fn unknown_value_references_and_forbidden_causality() {
             |i| {
                 let (f, c) = raw(i);
                 let mut v = [0.0];
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2GetRealOutputDerivatives)(
                         c,
                         [201].as_ptr(),
@@ -491,7 +489,7 @@ fn unknown_value_references_and_forbidden_causality() {
             |i| {
                 let (f, c) = raw(i);
                 let mut v = [0.0];
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2GetDirectionalDerivative)(
                         c,
                         [201].as_ptr(),
@@ -511,7 +509,7 @@ fn unknown_value_references_and_forbidden_causality() {
             &["fmi2SetInteger", "no Integer variables"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe {
+                vibrofric_import::status(unsafe {
                     (f.fmi2SetInteger)(c, [1].as_ptr(), 1, [1].as_ptr())
                 })
             },
@@ -576,7 +574,7 @@ fn calls_out_of_order() {
             &["fmi2CancelStep", "StepComplete"],
             |i| {
                 let (f, c) = raw(i);
-                vibrofric::importer::status(unsafe { (f.fmi2CancelStep)(c) })
+                vibrofric_import::status(unsafe { (f.fmi2CancelStep)(c) })
             },
         ),
     ];

@@ -7,9 +7,9 @@ mod fmi_harness;
 use fmi_harness::*;
 use vibrofric::description::variables::{Causality, VarKind};
 use vibrofric::description::Scene;
-use vibrofric::importer::{Functions, Status};
 use vibrofric::model::{self, InputId, Inputs, OutputId, Simulator};
 use vibrofric::physics::Params;
+use vibrofric_import::{Functions, Status};
 
 const H: f64 = 1e-3;
 
@@ -148,7 +148,7 @@ fn initialization_mode_reads_outputs_consistent_with_the_staged_values() {
 #[test]
 fn calls_out_of_order_return_error_naming_function_and_state() {
     let fmu = load("contact.toml", "order");
-    type Call = fn(&mut vibrofric::importer::Instance) -> Status;
+    type Call = fn(&mut vibrofric_import::Instance) -> Status;
     // (set-up calls, the call out of order, its name, the state it is made in)
     let cases: Vec<(usize, Call, &str, &str)> = vec![
         (0, |i| i.do_step(0.0, 1e-3), "fmi2DoStep", "Instantiated"),
@@ -260,7 +260,7 @@ trait IntoStatus {
 
 impl IntoStatus for i32 {
     fn into_status(self) -> Status {
-        vibrofric::importer::status(self)
+        vibrofric_import::status(self)
     }
 }
 
@@ -433,7 +433,7 @@ fn logging_honours_categories_with_percent_s_and_the_importer_environment() {
 fn every_local_resource_location_is_accepted() {
     let dir = temp("resources dir %");
     unpack(&dir, &scene_text("contact.toml"));
-    let fmu = vibrofric::importer::Fmu::load(&dir).unwrap();
+    let fmu = vibrofric_import::Fmu::load(&dir).unwrap();
     let res = dir.join("resources");
     let p = res.display().to_string();
     let enc = p.replace('%', "%25").replace(' ', "%20");
@@ -684,9 +684,9 @@ fn the_importer_loads_a_packed_fmu_archive_and_removes_its_unpacked_copy() {
     let opts = zip::write::SimpleFileOptions::default();
     let so = format!(
         "binaries/{}/{}.{}",
-        vibrofric::importer::platform().0,
+        vibrofric_import::platform().0,
         scene.model_identifier,
-        vibrofric::importer::platform().1
+        vibrofric_import::platform().1
     );
     for (name, path) in [
         ("modelDescription.xml", dir.join("modelDescription.xml")),
@@ -698,7 +698,7 @@ fn the_importer_loads_a_packed_fmu_archive_and_removes_its_unpacked_copy() {
     }
     zip.finish().unwrap();
 
-    let fmu = vibrofric::importer::Fmu::load(&fmu_file).unwrap();
+    let fmu = vibrofric_import::Fmu::load(&fmu_file).unwrap();
     let unpacked = fmu.dir.clone();
     assert!(unpacked.join("resources/scene.toml").is_file());
     let rows = fmu

@@ -5,7 +5,7 @@
 mod fmi_harness;
 
 use fmi_harness::*;
-use vibrofric::importer::Status;
+use vibrofric_import::Status;
 
 const H: f64 = 1e-3;
 
@@ -69,7 +69,7 @@ fn states_keep_input_derivatives_tuned_parameters_and_the_averaging_window() {
     let vrs = all_vrs(&scene("contact.toml"));
     // Steps of 0.3 ms: the F_mean window (one 0.5 ms period) ends inside steps.
     let h = 3e-4;
-    let prelude = |i: &mut vibrofric::importer::Instance| {
+    let prelude = |i: &mut vibrofric_import::Instance| {
         run(i, &vrs, 0, 3, 0.0, h);
         ok!(i, i.set_real(&[vr::U0, vr::F], &[3e-7, 1500.0]));
         ok!(
@@ -100,7 +100,7 @@ fn states_keep_input_derivatives_tuned_parameters_and_the_averaging_window() {
 fn a_state_taken_in_initialization_mode_and_the_state_machine_state() {
     let fmu = load("contact.toml", "state-init");
     let vrs = all_vrs(&scene("contact.toml"));
-    let init = |i: &mut vibrofric::importer::Instance| {
+    let init = |i: &mut vibrofric_import::Instance| {
         ok!(i, i.setup_experiment(Some(1e-7), 0.0, None));
         ok!(i, i.enter_initialization_mode());
         ok!(

@@ -6,7 +6,7 @@
 mod fmi_harness;
 
 use fmi_harness::*;
-use vibrofric::importer::Fmu;
+use vibrofric_import::Fmu;
 
 const H: f64 = 1e-3;
 const STEPS: usize = 15;

@@ -24,7 +24,7 @@ use std::time::{Duration, Instant};
 use fmi_harness::*;
 use vibrofric::description::scene::Scene;
 use vibrofric::description::xml;
-use vibrofric::importer::Status;
+use vibrofric_import::Status;
 
 /// xorshift64*: small, seeded, reproducible on every platform.
 struct Rng(u64);
@@ -125,7 +125,7 @@ fn c_api_call_sequences_keep_the_invariants() {
         let mut t = 0.0;
         // Most sequences start from a properly initialized instance, so that the stepping
         // states are explored as much as the refusals.
-        let init = |inst: &mut vibrofric::importer::Instance| {
+        let init = |inst: &mut vibrofric_import::Instance| {
             inst.setup_experiment(Some(1e-6), 0.0, None);
             inst.enter_initialization_mode();
             inst.exit_initialization_mode();

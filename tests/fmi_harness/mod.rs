@@ -1,12 +1,12 @@
 //! Shared by the `fmi_*` tests: builds an unpacked FMU folder around the cdylib that cargo built
-//! for this test run, and drives it through `vibrofric::importer` as an importer would.
+//! for this test run, and drives it through `vibrofric_import` as an importer would.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 
 use vibrofric::description::xml;
 use vibrofric::description::Scene;
-use vibrofric::importer::{Fmu, Instance, Status};
+use vibrofric_import::{Fmu, Instance, Status};
 
 /// Value references (`docs/model.md`; stable across scenes).
 pub mod vr {
@@ -72,7 +72,7 @@ pub fn temp(tag: &str) -> PathBuf {
 /// `binaries/<platform>/<id>.so` (a link to this build's cdylib) and `resources/scene.toml`.
 pub fn unpack(dir: &Path, text: &str) -> Scene {
     let scene = Scene::parse(text, "scene.toml").unwrap();
-    let (platform, ext) = vibrofric::importer::platform();
+    let (platform, ext) = vibrofric_import::platform();
     let bin = dir.join("binaries").join(platform);
     std::fs::create_dir_all(&bin).unwrap();
     let so = bin.join(format!("{}.{ext}", scene.model_identifier));

@@ -1,8 +1,8 @@
 """Shared fixtures of the fmpy tests: the exported FMUs in dist/ and the core's reference runs.
 
-The reference is the core library called directly (`vibrofric::cli_simulate`, built as the
-`simulate` example), with the same communication points as fmpy's co-simulation loop, so that
-its numbers can be compared with the FMU's bit for bit.
+The reference is the core library called directly (`vibrofric simulate`), with the same
+communication points as fmpy's co-simulation loop, so that its numbers can be compared with
+the FMU's bit for bit.
 """
 
 import csv
@@ -23,10 +23,10 @@ def target_dir():
     return pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
 
 
-def simulate_exe():
-    exe = target_dir() / "release" / "examples" / "simulate"
+def vibrofric_exe():
+    exe = target_dir() / "release" / "vibrofric"
     if not exe.exists():
-        pytest.fail(f"{exe} is missing: run `cargo build --release --examples` (tests/all.sh does)")
+        pytest.fail(f"{exe} is missing: run `cargo build --release` (tests/all.sh does)")
     return exe
 
 
@@ -44,7 +44,7 @@ def default_fmu():
 
 def core(scene, step, stop, sets=None, tolerance=None):
     """Runs `scene` (a path) through the core; returns a dict of numpy arrays by column."""
-    args = [str(simulate_exe()), str(scene), "--step", repr(step), "--stop", repr(stop)]
+    args = [str(vibrofric_exe()), "simulate", str(scene), "--step", repr(step), "--stop", repr(stop)]
     if tolerance is not None:
         args += ["--tolerance", repr(tolerance)]
     for k, v in (sets or {}).items():

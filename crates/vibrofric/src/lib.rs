@@ -6,20 +6,16 @@
 //! - [`solver`]: the stiff, event-locating integrator (no physics, no XML);
 //! - [`model`]: a contact as a [`model::Simulator`], specialised at compile time per scene;
 //! - [`description`]: the variable table, scenes, the generated `modelDescription.xml`;
-//! - [`fmi`]: the FMI 2.0 instance state machine and the thin `extern "C"` layer;
-//! - [`importer`]: a small FMI 2.0 Co-Simulation importer (tests and the exporter's self-check);
-//! - [`elf`]: the glibc symbol versions a shipped shared library requires.
+//! - [`fmi`]: the FMI 2.0 instance state machine and the thin `extern "C"` layer.
 //!
-//! `unsafe` code lives only in `fmi::ffi` (the exported C functions) and `importer` (which
-//! calls an FMU's C functions); everything else is safe Rust.
+//! Below them all, [`table`] declares every variable once. `unsafe` code lives only in the C
+//! layer (`fmi::ffi`, the exported C functions); everything else is safe Rust. The importer
+//! (`vibrofric-import`) and the command line (`vibrofric-cli`) are crates of their own: the
+//! shared library carries only what an FMU runs.
 #![deny(unsafe_code)]
 
-pub mod cli_simulate;
 pub mod description;
-pub mod elf;
 pub mod fmi;
-#[allow(unsafe_code)]
-pub mod importer;
 pub mod model;
 pub mod physics;
 pub mod solver;

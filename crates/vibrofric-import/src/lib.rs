@@ -26,8 +26,8 @@ use std::sync::Mutex;
 
 use libloading::Library;
 
-use crate::fmi::types::*;
-pub use crate::fmi::Status;
+use vibrofric::fmi::types::*;
+pub use vibrofric::fmi::Status;
 
 /// One message of the FMU's logger.
 #[derive(Clone, Debug, PartialEq)]

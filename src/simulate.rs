@@ -1,9 +1,9 @@
-//! `simulate`: a scene run by the core ([`crate::model::build`]) directly, without the FMU layer,
+//! `vibrofric simulate`: a scene run by the core ([`vibrofric::model::build`]) directly, without the FMU layer,
 //! printed as CSV. It is the independent reference the Python tests compare fmpy's runs of the
 //! FMU with, and a quick way to look at a scene.
 //!
 //! ```text
-//! simulate SCENE.toml --step H --stop T [--start T0] [--tolerance TOL] [--set NAME=VALUE]...
+//! vibrofric simulate SCENE.toml --step H --stop T [--start T0] [--tolerance TOL] [--set NAME=VALUE]...
 //! ```
 //!
 //! The run is the one an FMI master such as fmpy makes with the FMU: the simulator is built at
@@ -13,77 +13,55 @@
 //! header `time,<outputs of the scene>` and one row per communication point, numbers in
 //! shortest round-trip form, so that a reader gets the core's values bit for bit.
 
-use crate::description::scene::Scene;
-use crate::model::{self, InputId};
-use crate::physics::ParamId;
+use std::path::PathBuf;
+
+use vibrofric::description::{xml, Scene};
+use vibrofric::model::{self, InputId};
+use vibrofric::physics::ParamId;
 
 /// What the command line asks for.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, clap::Args)]
 pub struct Options {
-    pub scene: String,
+    /// The scene file.
+    pub scene: PathBuf,
+    /// Communication step size H [s].
+    #[arg(long, value_name = "H", value_parser = positive)]
     pub step: f64,
+    /// Stop time T [s].
+    #[arg(long, value_name = "T", value_parser = finite)]
     pub stop: f64,
+    /// Start time T0 [s].
+    #[arg(long, value_name = "T0", default_value_t = 0.0, value_parser = finite)]
     pub start: f64,
+    /// Relative tolerance of the solver.
+    #[arg(long, value_name = "TOL", default_value_t = xml::DEFAULT_EXPERIMENT.2)]
     pub tolerance: f64,
+    /// Start value of a parameter or input (repeatable).
+    #[arg(long, value_name = "NAME=VALUE", value_parser = assignment)]
     pub set: Vec<(String, f64)>,
 }
 
-/// Usage text.
-pub const USAGE: &str = "usage: simulate SCENE.toml --step H --stop T [--start T0] [--tolerance TOL] [--set NAME=VALUE]...";
-
-fn number(flag: &str, v: Option<&String>) -> Result<f64, String> {
-    let v = v.ok_or_else(|| format!("{flag} needs a value; {USAGE}"))?;
-    v.parse::<f64>()
-        .map_err(|_| format!("{flag} {v}: not a number; {USAGE}"))
+fn finite(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        Ok(_) => Err("must be finite".into()),
+        Err(_) => Err("not a number".into()),
+    }
 }
 
-/// Parses the arguments after the subcommand.
-pub fn parse(args: &[String]) -> Result<Options, String> {
-    let mut o = Options {
-        scene: String::new(),
-        step: f64::NAN,
-        stop: f64::NAN,
-        start: 0.0,
-        tolerance: crate::description::xml::DEFAULT_EXPERIMENT.2,
-        set: vec![],
-    };
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--step" => o.step = number(a, it.next())?,
-            "--stop" => o.stop = number(a, it.next())?,
-            "--start" => o.start = number(a, it.next())?,
-            "--tolerance" => o.tolerance = number(a, it.next())?,
-            "--set" => {
-                let kv = it
-                    .next()
-                    .ok_or_else(|| format!("--set needs NAME=VALUE; {USAGE}"))?;
-                let (k, v) = kv
-                    .split_once('=')
-                    .ok_or_else(|| format!("--set {kv}: must be NAME=VALUE"))?;
-                let x = v
-                    .parse::<f64>()
-                    .map_err(|_| format!("--set {kv}: {v} is not a number"))?;
-                o.set.push((k.to_string(), x));
-            }
-            s if s.starts_with("--") => return Err(format!("unknown option {s}; {USAGE}")),
-            s if o.scene.is_empty() => o.scene = s.to_string(),
-            s => return Err(format!("unexpected argument {s}; {USAGE}")),
-        }
+fn positive(s: &str) -> Result<f64, String> {
+    match finite(s)? {
+        x if x > 0.0 => Ok(x),
+        _ => Err("must be finite and > 0".into()),
     }
-    if o.scene.is_empty() {
-        return Err(format!("no scene given; {USAGE}"));
-    }
-    if !(o.step.is_finite() && o.step > 0.0) {
-        return Err(format!("--step = {}: must be finite and > 0", o.step));
-    }
-    if !(o.start.is_finite() && o.stop.is_finite() && o.stop > o.start) {
-        return Err(format!(
-            "--stop = {}: must be finite and > --start = {}",
-            o.stop, o.start
-        ));
-    }
-    Ok(o)
+}
+
+fn assignment(kv: &str) -> Result<(String, f64), String> {
+    let (k, v) = kv.split_once('=').ok_or("must be NAME=VALUE")?;
+    let x = v
+        .parse::<f64>()
+        .map_err(|_| format!("{v} is not a number"))?;
+    Ok((k.to_string(), x))
 }
 
 /// Runs the scene text and returns the CSV.
@@ -146,51 +124,65 @@ pub fn simulate(scene: &Scene, o: &Options) -> Result<String, String> {
     Ok(out)
 }
 
-/// The whole command: parse, read the scene, simulate.
-pub fn run(args: &[String]) -> Result<String, String> {
-    let o = parse(args)?;
-    let scene = Scene::load(std::path::Path::new(&o.scene)).map_err(|e| e.to_string())?;
-    simulate(&scene, &o)
+/// The whole command: read the scene, simulate.
+pub fn run(o: &Options) -> Result<String, String> {
+    if o.stop <= o.start {
+        return Err(format!(
+            "--stop = {}: must be > --start = {}",
+            o.stop, o.start
+        ));
+    }
+    let scene = Scene::load(&o.scene).map_err(|e| e.to_string())?;
+    simulate(&scene, o)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn args(s: &str) -> Vec<String> {
-        s.split_whitespace().map(String::from).collect()
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        o: Options,
+    }
+
+    fn parse(s: &str) -> Result<Options, String> {
+        Cli::try_parse_from(std::iter::once("simulate").chain(s.split_whitespace()))
+            .map(|c| c.o)
+            .map_err(|e| e.to_string())
     }
 
     #[test]
     fn parses_and_refuses_with_reasons() {
-        let o = parse(&args(
-            "s.toml --step 1e-3 --stop 0.01 --set F_d=2 --tolerance 1e-8",
-        ))
-        .unwrap();
+        let o = parse("s.toml --step 1e-3 --stop 0.01 --set F_d=2 --tolerance 1e-8").unwrap();
         assert_eq!(o.step, 1e-3);
+        assert_eq!(o.tolerance, 1e-8);
         assert_eq!(o.set, vec![("F_d".to_string(), 2.0)]);
-        assert!(parse(&args("s.toml --stop 1"))
-            .unwrap_err()
-            .contains("--step"));
-        assert!(parse(&args("s.toml --step 0 --stop 1"))
+        assert!(parse("s.toml --stop 1").unwrap_err().contains("--step"));
+        assert!(parse("s.toml --step 0 --stop 1")
             .unwrap_err()
             .contains("> 0"));
-        assert!(parse(&args("s.toml --step 1 --stop 1 --bogus"))
+        assert!(parse("s.toml --step 1 --stop 1 --bogus")
             .unwrap_err()
             .contains("--bogus"));
+        assert!(parse("s.toml --step 1 --stop 1 --set k_t")
+            .unwrap_err()
+            .contains("NAME=VALUE"));
     }
 
     #[test]
     fn rows_at_every_communication_point() {
         let text = "model_identifier = \"C\"\nlaw = \"dahl\"\nmotion = \"longitudinal\"\ndrive = \"force\"\nsupport = [\"harmonic\"]\n";
         let scene = Scene::parse(text, "c.toml").unwrap();
-        let o = parse(&args("c.toml --step 1e-3 --stop 2.5e-3 --set F_d=1")).unwrap();
+        let o = parse("c.toml --step 1e-3 --stop 2.5e-3 --set F_d=1").unwrap();
         let csv = simulate(&scene, &o).unwrap();
         let lines: Vec<&str> = csv.lines().collect();
         assert!(lines[0].starts_with("time,F_Fx"));
         assert_eq!(lines.len(), 1 + 4, "t = 0, 1, 2, 2.5 ms");
         assert!(lines[4].starts_with("2.5e-3,"));
-        let bad = parse(&args("c.toml --step 1e-3 --stop 1 --set k_t=-1")).unwrap();
+        let bad = parse("c.toml --step 1e-3 --stop 1 --set k_t=-1").unwrap();
         assert!(simulate(&scene, &bad).unwrap_err().contains("k_t"));
     }
 }
