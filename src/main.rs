@@ -33,32 +33,16 @@ use vibrofric::description::{docs, xml, Scene};
 use vibrofric::model::{self, InputId};
 use vibrofric_import::Fmu;
 
-/// FMI 2.0 platform directory of this build.
-const PLATFORM: &str = if cfg!(target_os = "windows") {
-    "win64"
-} else if cfg!(target_os = "macos") {
-    "darwin64"
-} else {
-    "linux64"
-};
+/// FMI 2.0 platform directory of this build (`linux64`, `win64`, `darwin64`).
+fn platform() -> &'static str {
+    vibrofric_import::platform().0
+}
 
-/// Shared-library extension of this build.
-const LIB_EXT: &str = if cfg!(target_os = "windows") {
-    "dll"
-} else if cfg!(target_os = "macos") {
-    "dylib"
-} else {
-    "so"
-};
-
-/// File name of the cdylib cargo builds beside the binary.
-const LIB_FILE: &str = if cfg!(target_os = "windows") {
-    "vibrofric.dll"
-} else if cfg!(target_os = "macos") {
-    "libvibrofric.dylib"
-} else {
-    "libvibrofric.so"
-};
+/// File name of the FMU library cargo builds beside the binary (`libvibrofric.so` on Linux).
+fn lib_file() -> String {
+    use std::env::consts::{DLL_EXTENSION, DLL_PREFIX};
+    format!("{DLL_PREFIX}vibrofric.{DLL_EXTENSION}")
+}
 
 /// Scene directory and FMU directory of the no-argument run.
 const SCENES_DIR: &str = "scenes";
@@ -152,14 +136,15 @@ fn host_library() -> Result<PathBuf, String> {
     let dir = exe.parent().unwrap_or(Path::new("."));
     let candidates = [Some(dir), dir.parent()];
     for d in candidates.into_iter().flatten() {
-        let p = d.join(LIB_FILE);
+        let p = d.join(lib_file());
         if p.is_file() {
             return Ok(p);
         }
     }
     Err(format!(
-        "cannot find {LIB_FILE} next to {}: build it with `cargo build --release` (cargo builds \
+        "cannot find {} next to {}: build it with `cargo build --release` (cargo builds \
          the cdylib beside the binary) or pass --library FILE",
+        lib_file(),
         exe.display()
     ))
 }
@@ -263,7 +248,7 @@ fn portable_library() -> Result<Option<PathBuf>, String> {
     let lib = target_dir
         .join("x86_64-unknown-linux-gnu")
         .join("release")
-        .join(LIB_FILE);
+        .join(lib_file());
     if !lib.is_file() {
         return Err(format!("cargo zigbuild did not write {}", lib.display()));
     }
@@ -302,9 +287,9 @@ fn find_library(explicit: Option<&Path>) -> Result<(PathBuf, &'static str), Stri
 fn platform_line(lib: &Path, source: &str) -> Result<(String, docs::Binary), String> {
     if !cfg!(target_os = "linux") {
         return Ok((
-            format!("binaries/{PLATFORM}: {} ({source})", lib.display()),
+            format!("binaries/{}: {} ({source})", platform(), lib.display()),
             docs::Binary {
-                platform: PLATFORM,
+                platform: platform(),
                 glibc: None,
                 libraries: vec![],
             },
@@ -317,7 +302,11 @@ fn platform_line(lib: &Path, source: &str) -> Result<(String, docs::Binary), Str
         .map_or("no versioned glibc symbol".to_string(), |v| {
             format!("needs glibc >= {v}")
         });
-    let mut line = format!("binaries/{PLATFORM}: {} ({source}): {need}", lib.display());
+    let mut line = format!(
+        "binaries/{}: {} ({source}): {need}",
+        platform(),
+        lib.display()
+    );
     if source == "cargo-zigbuild" {
         line.push_str(&format!(
             " (built for glibc {PORTABLE_GLIBC}: RHEL 7/8, Ubuntu 18.04/20.04 and newer)"
@@ -332,7 +321,7 @@ fn platform_line(lib: &Path, source: &str) -> Result<(String, docs::Binary), Str
     Ok((
         line,
         docs::Binary {
-            platform: PLATFORM,
+            platform: platform(),
             glibc,
             libraries: needs.libraries,
         },
@@ -433,7 +422,15 @@ fn write_fmu(
     let doc = docs::index_html_for(scene, binary);
     let entries: [(String, &[u8], u32); 4] = [
         ("modelDescription.xml".into(), description.as_bytes(), 0o644),
-        (format!("binaries/{PLATFORM}/{id}.{LIB_EXT}"), lib, 0o755),
+        (
+            format!(
+                "binaries/{}/{id}.{}",
+                platform(),
+                std::env::consts::DLL_EXTENSION
+            ),
+            lib,
+            0o755,
+        ),
         ("documentation/index.html".into(), doc.as_bytes(), 0o644),
         (
             "resources/scene.toml".into(),

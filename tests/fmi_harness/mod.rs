@@ -8,27 +8,28 @@ use vibrofric::description::xml;
 use vibrofric::description::Scene;
 use vibrofric_import::{Fmu, Instance, Status};
 
-/// Value references (`docs/model.md`; stable across scenes).
+/// Value references, from the variable table (stable across scenes).
 pub mod vr {
-    pub const M: u32 = 1;
-    pub const F_N: u32 = 2;
-    pub const MU: u32 = 3;
-    pub const K_T: u32 = 4;
-    pub const KAPPA: u32 = 5;
-    pub const R_BA: u32 = 6;
-    pub const U0: u32 = 12;
-    pub const F: u32 = 13;
-    pub const ANGLE: u32 = 14;
-    pub const F_D: u32 = 101;
-    pub const V_D: u32 = 102;
-    pub const V_SX: u32 = 103;
-    pub const V_SY: u32 = 104;
-    pub const F_FX: u32 = 201;
-    pub const X: u32 = 203;
-    pub const V_X: u32 = 205;
-    pub const S_X: u32 = 207;
-    pub const F_MEAN: u32 = 209;
-    pub const REDUCTION: u32 = 210;
+    use vibrofric::table::{InputId, OutputId, ParamId};
+    pub const M: u32 = ParamId::M.vr();
+    pub const F_N: u32 = ParamId::FN.vr();
+    pub const MU: u32 = ParamId::Mu.vr();
+    pub const K_T: u32 = ParamId::KT.vr();
+    pub const KAPPA: u32 = ParamId::Kappa.vr();
+    pub const R_BA: u32 = ParamId::RBa.vr();
+    pub const U0: u32 = ParamId::U0.vr();
+    pub const F: u32 = ParamId::F.vr();
+    pub const ANGLE: u32 = ParamId::Angle.vr();
+    pub const F_D: u32 = InputId::FD.vr();
+    pub const V_D: u32 = InputId::VD.vr();
+    pub const V_SX: u32 = InputId::VSx.vr();
+    pub const V_SY: u32 = InputId::VSy.vr();
+    pub const F_FX: u32 = OutputId::FFx.vr();
+    pub const X: u32 = OutputId::X.vr();
+    pub const V_X: u32 = OutputId::Vx.vr();
+    pub const S_X: u32 = OutputId::Sx.vr();
+    pub const F_MEAN: u32 = OutputId::FMean.vr();
+    pub const REDUCTION: u32 = OutputId::Reduction.vr();
 }
 
 /// The cdylib of this build: `target/<profile>/libvibrofric.so`, found from the test

@@ -169,36 +169,6 @@ functions! {
     fmi2GetStringStatus: fn(fmi2Component, fmi2StatusKind, *mut fmi2String) -> fmi2Status;
 }
 
-/// A folder removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new() -> Result<TempDir, ImportError> {
-        let base = std::env::temp_dir();
-        let nanos = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos());
-        for k in 0..1000u32 {
-            let p = base.join(format!(
-                "vibrofric-fmu-{}-{nanos:x}-{k}",
-                std::process::id()
-            ));
-            match std::fs::create_dir(&p) {
-                Ok(()) => return Ok(TempDir(p)),
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-                Err(e) => return err(format!("cannot create {}: {e}", p.display())),
-            }
-        }
-        err("cannot create a temporary folder")
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
 /// The platform folder of `binaries/` and the shared library suffix (FMI 2.0 names).
 pub fn platform() -> (&'static str, &'static str) {
     if cfg!(target_os = "windows") {
@@ -316,7 +286,7 @@ pub struct Fmu {
     /// The raw C functions; valid while this `Fmu` lives.
     pub functions: Functions,
     _lib: Library,
-    _tmp: Option<TempDir>,
+    _tmp: Option<tempfile::TempDir>,
 }
 
 impl fmt::Debug for Fmu {
@@ -353,10 +323,13 @@ impl Fmu {
             let mut zip = zip::ZipArchive::new(file).map_err(|e| {
                 ImportError(format!("{} is not a zip archive: {e}", path.display()))
             })?;
-            let tmp = TempDir::new()?;
-            zip.extract(&tmp.0)
+            let tmp = tempfile::Builder::new()
+                .prefix("vibrofric-fmu-")
+                .tempdir()
+                .map_err(|e| ImportError(format!("cannot create a temporary folder: {e}")))?;
+            zip.extract(tmp.path())
                 .map_err(|e| ImportError(format!("cannot unpack {}: {e}", path.display())))?;
-            (tmp.0.clone(), Some(tmp))
+            (tmp.path().to_path_buf(), Some(tmp))
         };
         let md = dir.join("modelDescription.xml");
         let xml = std::fs::read_to_string(&md)
