@@ -30,7 +30,7 @@ fn main() {
         let sc = Scene::load(Path::new(file)).unwrap();
         let mut cases: Vec<Case> = vec![];
         for id in ParamId::ALL {
-            if !vibrofric::model::param_present(id, &sc.config) || id == ParamId::MaxSteps {
+            if !id.present(&sc.config) || id == ParamId::MaxSteps {
                 continue;
             }
             for v in [id.rule().min, id.rule().max] {

@@ -8,7 +8,7 @@ use crate::description::figure::SIGN_CONVENTION_SVG;
 use crate::description::scene::{drive_name, lateral_name, law_name, motion_name, summary, Scene};
 use crate::description::variables::{Causality, VarKind, Variable};
 use crate::description::xml::{self, DEFAULT_EXPERIMENT, DISPLAY_UNITS};
-use crate::model::{Drive, InputId, Law, Motion};
+use crate::table::{Drive, InputId, Law, Motion};
 
 /// Escapes text for HTML element content and attribute values.
 pub fn escape(s: &str) -> String {
@@ -54,7 +54,7 @@ fn start_html(scene: &Scene, v: &Variable) -> String {
     s
 }
 
-fn range_html(v: &Variable, c: &crate::model::Config) -> String {
+fn range_html(v: &Variable, c: &crate::table::Config) -> String {
     if v.causality(c) == Causality::Output {
         return String::new();
     }

@@ -15,8 +15,8 @@ use crate::description::scene::{
 };
 use crate::description::variables::{Causality, VarKind, Variable, VARIABLES};
 use crate::description::xml;
-use crate::model::{Drive, Lateral, Law, Motion};
-use crate::physics::Params;
+use crate::table::{Drive, Lateral, Law, Motion};
+use crate::table::Params;
 
 fn code_list(words: &[&str]) -> String {
     words
@@ -401,7 +401,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
 /// The conditions a variable's presence is described by, in the words of the scene keys. The
 /// first whose set of scenes is exactly the set that has the variable is used; a variable that
 /// none describes fails the generation (add its condition here).
-type Condition = (&'static str, fn(&crate::model::Config) -> bool);
+type Condition = (&'static str, fn(&crate::table::Config) -> bool);
 
 const CONDITIONS: [Condition; 16] = [
     ("every scene", |_| true),

@@ -20,8 +20,8 @@ use serde::Deserialize;
 use toml::{Spanned, Value};
 
 use crate::description::variables::{Causality, VarKind, Variable, VARIABLES};
-use crate::model::{param_present, Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId};
-use crate::physics::{ParamId, Params};
+use crate::table::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId};
+use crate::table::{ParamId, Params};
 
 /// The top-level keys of a scene file, in the order the documentation lists them.
 pub const KEYS: [&str; 10] = [
@@ -711,7 +711,7 @@ impl Scene {
             };
             match var.kind {
                 VarKind::Param(p) => {
-                    crate::model::check_param(p, value, &config)
+                    p.check_in(value, &config)
                         .and_then(|_| p.set(&mut start, value))
                         .map_err(|e| {
                             ctx.err(
@@ -839,7 +839,7 @@ fn output_refusal(name: &str, c: &Config, what: &str) -> String {
 fn start_refusal(var: &Variable, c: &Config, what: &str) -> String {
     let name = var.name();
     match var.kind {
-        VarKind::Param(p) if !param_present(p, c) => {
+        VarKind::Param(p) if !p.present(c) => {
             format!("{name} is not a parameter of a {what}")
         }
         VarKind::Input(i) if i.present(c) || (i == InputId::FD && c.drive == Drive::Spring) => {

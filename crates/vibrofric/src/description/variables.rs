@@ -233,9 +233,9 @@ mod tests {
     fn longitudinal_dahl_velocity_scene_leaves_out_what_it_does_not_need() {
         let c = Config {
             law: Law::Dahl,
-            motion: crate::model::Motion::Longitudinal,
+            motion: crate::table::Motion::Longitudinal,
             drive: Drive::Velocity,
-            lateral: crate::model::Lateral::Guided,
+            lateral: crate::table::Lateral::Guided,
             harmonic: true,
             input_support: false,
             normal_input: false,
