@@ -566,7 +566,7 @@ fn instance_names_of_any_length_a_null_logger_and_null_callbacks() {
     let f = fmu.functions;
     let guid = std::ffi::CString::new(fmu.description.guid.clone()).unwrap();
     let res = std::ffi::CString::new(fmu.resource_uri()).unwrap();
-    let callbacks = vibrofric::fmi::types::fmi2CallbackFunctions {
+    let callbacks = vibrofric::fmi::fmi2::types::fmi2CallbackFunctions {
         logger: None,
         allocateMemory: None,
         freeMemory: None,

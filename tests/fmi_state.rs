@@ -189,16 +189,30 @@ fn fnv1a(b: &[u8]) -> u64 {
     })
 }
 
-/// `bytes` with number `k` of the simulator snapshot (the last block before the checksum, its
-/// count in the u32 before it) replaced by `value`, and the checksum made to match.
+/// postcard's length prefix (LEB128).
+fn varint(mut n: usize) -> Vec<u8> {
+    let mut v = vec![];
+    loop {
+        let byte = (n & 0x7f) as u8;
+        n >>= 7;
+        if n == 0 {
+            v.push(byte);
+            return v;
+        }
+        v.push(byte | 0x80);
+    }
+}
+
+/// `bytes` with number `k` of the simulator snapshot (the last field of the payload, a
+/// sequence of `f64` after its length) replaced by `value`, and the checksum made to match.
+/// Layout: magic (16), version (4), payload length (4), payload, checksum (8).
 fn crafted(bytes: &[u8], k: usize, value: f64) -> Vec<u8> {
     let mut b = bytes.to_vec();
     let end = b.len() - 8;
     let n = (1..4096)
         .find(|&n| {
-            end >= 8 * n + 4
-                && u32::from_le_bytes(b[end - 8 * n - 4..end - 8 * n].try_into().unwrap()) as usize
-                    == n
+            let prefix = varint(n);
+            end >= 8 * n + prefix.len() && b[end - 8 * n - prefix.len()..end - 8 * n] == prefix[..]
         })
         .unwrap();
     let at = end - 8 * n + 8 * k;

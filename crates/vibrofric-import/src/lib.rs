@@ -26,7 +26,7 @@ use std::sync::Mutex;
 
 use libloading::Library;
 
-use vibrofric::fmi::types::*;
+use vibrofric::fmi::fmi2::types::*;
 pub use vibrofric::fmi::Status;
 
 /// One message of the FMU's logger.
@@ -48,7 +48,7 @@ impl fmt::Display for LogRecord {
             "[{}] {} {}: {}",
             self.category,
             self.instance,
-            self.status.name(),
+            vibrofric::fmi::fmi2::status_name(self.status),
             self.message
         )
     }
@@ -456,7 +456,7 @@ impl Fmu {
             } else {
                 err(format!(
                     "{what} returned {}: {}",
-                    s.name(),
+                    vibrofric::fmi::fmi2::status_name(s),
                     inst.last_message()
                 ))
             }
@@ -477,7 +477,7 @@ impl Fmu {
             let y = inst.get_real(outputs).map_err(|s| {
                 ImportError(format!(
                     "fmi2GetReal returned {}: {}",
-                    s.name(),
+                    vibrofric::fmi::fmi2::status_name(s),
                     inst.last_message()
                 ))
             })?;

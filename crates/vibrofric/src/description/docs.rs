@@ -456,7 +456,8 @@ pub fn index_html_for(scene: &Scene, binary: &Binary) -> String {
     h.push_str(&platform_html(scene, binary));
 
     h.push_str("<h2>Logging</h2>\n<ul>\n");
-    for (name, d) in xml::LOG_CATEGORIES {
+    for c in crate::description::log::Category::ALL {
+        let (name, d) = (c.name(), c.description());
         h.push_str(&format!("<li><code>{name}</code>: {}</li>\n", escape(d)));
     }
     h.push_str("</ul>\n");

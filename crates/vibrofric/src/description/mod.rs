@@ -3,6 +3,7 @@
 
 pub mod docs;
 pub mod figure;
+pub mod log;
 pub mod reference;
 pub mod scene;
 pub mod variables;

@@ -15,8 +15,8 @@ use crate::description::scene::{
 };
 use crate::description::variables::{Causality, VarKind, Variable, VARIABLES};
 use crate::description::xml;
-use crate::table::{Drive, Lateral, Law, Motion};
 use crate::table::Params;
+use crate::table::{Drive, Lateral, Law, Motion};
 
 fn code_list(words: &[&str]) -> String {
     words

@@ -17,6 +17,7 @@ use quick_xml::events::{BytesDecl, BytesEnd, BytesStart, Event};
 use quick_xml::Writer;
 use sha2::{Digest, Sha256};
 
+use crate::description::log::Category;
 use crate::description::scene::Scene;
 use crate::description::variables::{Causality, Initial, Variable};
 
@@ -30,23 +31,6 @@ pub const FMI_VERSION: &str = "2.0";
 pub fn generation_tool() -> String {
     format!("vibrofric {}", env!("CARGO_PKG_VERSION"))
 }
-
-/// Log categories: (name, description).
-pub const LOG_CATEGORIES: [(&str, &str); 4] = [
-    (
-        "logEvents",
-        "Instance life cycle and solver events (instantiation, initialization, reset, state save/restore)",
-    ),
-    (
-        "logStatusWarning",
-        "Calls that returned fmi2Warning",
-    ),
-    (
-        "logStatusError",
-        "Calls that returned fmi2Error or fmi2Discard, naming the variable and the rule",
-    ),
-    ("logAll", "Every message, including per-call traces"),
-];
 
 /// SI exponents of a unit: (kg, m, s, rad).
 fn base_unit(unit: &str) -> Option<[i32; 4]> {
@@ -235,7 +219,8 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
     close(w, "UnitDefinitions")?;
 
     open(w, "LogCategories", &[])?;
-    for (name, description) in LOG_CATEGORIES {
+    for c in Category::ALL {
+        let (name, description) = (c.name(), c.description());
         empty(
             w,
             "Category",

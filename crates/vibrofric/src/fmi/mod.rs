@@ -1,10 +1,19 @@
-//! FMI 2.0 layer: the instance state machine ([`instance`], safe Rust) and the thin
-//! `extern "C"` functions an importer calls ([`ffi`], the only `unsafe` code of the FMU).
+//! The FMI layer: one standard-neutral instance ([`instance`]: life cycle, staged values,
+//! get/set by value reference, stepping, saved states) and a thin layer per FMI version
+//! ([`fmi2`]: its C types, its table of allowed states and its `extern "C"` functions, the only
+//! `unsafe` code of the FMU).
 
-#[allow(unsafe_code)]
-pub mod ffi;
+pub mod fmi2;
 pub mod instance;
-pub mod types;
+pub mod log;
+mod saved;
+mod staging;
+pub mod state;
+mod status;
 pub mod uri;
 
-pub use instance::{FmiState, FmuState, Instance, Logger, Status};
+pub use instance::Instance;
+pub use log::{Logger, NoLogger};
+pub use saved::FmuState;
+pub use state::{Call, State, States};
+pub use status::Status;

@@ -17,8 +17,10 @@ use std::os::raw::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
-use super::instance::{FmuState, Instance, Logger, NoLogger, Status};
 use super::types::*;
+use super::{co_simulation, Function};
+use crate::description::log::Category;
+use crate::fmi::{Call, FmuState, Instance, Logger, NoLogger, Status};
 
 const COMPONENT_MAGIC: u64 = 0x7669_6272_6f66_7269; // "vibrofri"
 const STATE_MAGIC: u64 = 0x7669_6272_6f73_7461; // "vibrosta"
@@ -79,17 +81,19 @@ unsafe fn component<'a>(c: fmi2Component) -> Option<&'a mut Component> {
 /// Runs `body` on the instance, catching panics.
 unsafe fn call(
     c: fmi2Component,
-    f: &str,
-    body: impl FnOnce(&mut Instance) -> Status,
+    f: Function,
+    body: impl FnOnce(&mut Instance, Call) -> Status,
 ) -> fmi2Status {
     let Some(comp) = component(c) else {
         return fmi2Error;
     };
-    match catch_unwind(AssertUnwindSafe(|| body(&mut comp.inst))) {
+    match catch_unwind(AssertUnwindSafe(|| body(&mut comp.inst, f.call()))) {
         Ok(s) => s as fmi2Status,
         Err(p) => {
             let what = panic_text(p.as_ref());
-            let _ = catch_unwind(AssertUnwindSafe(|| comp.inst.internal_error(f, &what)));
+            let _ = catch_unwind(AssertUnwindSafe(|| {
+                comp.inst.internal_error(f.name(), &what)
+            }));
             fmi2Error
         }
     }
@@ -165,19 +169,30 @@ pub unsafe extern "C" fn fmi2Instantiate(
             None => Box::new(NoLogger),
         }
     };
+    const F: Function = Function::Instantiate;
     let result = catch_unwind(AssertUnwindSafe(|| {
         let logger = make_logger();
+        let refuse = |msg: String| {
+            let error = Category::StatusError.name();
+            logger.log(Status::Error, error, &format!("{}: {msg}", F.name()));
+        };
         let Some(name) = name.clone() else {
-            logger.log(
-                Status::Error,
-                "logStatusError",
-                "fmi2Instantiate: instanceName = NULL: must be a string",
-            );
+            refuse("instanceName = NULL: must be a string".into());
             return None;
         };
+        if let Some(why) = Instance::refuse_name(&name) {
+            refuse(why);
+            return None;
+        }
+        if fmuType != fmi2CoSimulation {
+            refuse(format!(
+                "fmuType = {fmuType}: this FMU implements only fmi2CoSimulation ({fmi2CoSimulation})"
+            ));
+            return None;
+        }
         let inst = Instance::instantiate(
+            F.call(),
             &name,
-            fmuType,
             string(fmuGUID).as_deref(),
             string(fmuResourceLocation).as_deref(),
             logger,
@@ -194,7 +209,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         Err(_) => {
             make_logger().log(
                 Status::Error,
-                "logStatusError",
+                Category::StatusError.name(),
                 "fmi2Instantiate: internal error (caught); no instance was created",
             );
             ptr::null_mut()
@@ -219,11 +234,11 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     nCategories: usize,
     categories: *const fmi2String,
 ) -> fmi2Status {
-    const F: &str = "fmi2SetDebugLogging";
-    call(c, F, |inst| {
+    const F: Function = Function::SetDebugLogging;
+    call(c, F, |inst, call| {
         let Some(cats) = array(categories, nCategories) else {
             return inst.invalid_argument(
-                F,
+                F.name(),
                 format!("categories = NULL with nCategories = {nCategories}"),
             );
         };
@@ -231,11 +246,11 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
         for (k, &p) in cats.iter().enumerate() {
             match string(p) {
                 Some(s) => names.push(s),
-                None => return inst.invalid_argument(F, format!("categories[{k}] = NULL")),
+                None => return inst.invalid_argument(F.name(), format!("categories[{k}] = NULL")),
             }
         }
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        inst.set_debug_logging(loggingOn != fmi2False, &names)
+        inst.set_debug_logging(call, loggingOn != fmi2False, &names)
     })
 }
 
@@ -248,8 +263,9 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     stopTimeDefined: fmi2Boolean,
     stopTime: fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2SetupExperiment", |inst| {
+    call(c, Function::SetupExperiment, |inst, call| {
         inst.setup_experiment(
+            call,
             (toleranceDefined != fmi2False).then_some(tolerance),
             startTime,
             (stopTimeDefined != fmi2False).then_some(stopTime),
@@ -259,26 +275,26 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2EnterInitializationMode", |i| {
-        i.enter_initialization_mode()
+    call(c, Function::EnterInitializationMode, |i, call| {
+        i.enter_initialization_mode(call)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2ExitInitializationMode", |i| {
-        i.exit_initialization_mode()
+    call(c, Function::ExitInitializationMode, |i, call| {
+        i.exit_initialization_mode(call)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2Terminate", |i| i.terminate())
+    call(c, Function::Terminate, |i, call| i.terminate(call))
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2Reset", |i| i.reset())
+    call(c, Function::Reset, |i, call| i.reset(call))
 }
 
 // ---- getters and setters --------------------------------------------------------------------
@@ -290,15 +306,15 @@ pub unsafe extern "C" fn fmi2GetReal(
     nvr: usize,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    const F: &str = "fmi2GetReal";
-    call(c, F, |inst| {
+    const F: Function = Function::GetReal;
+    call(c, F, |inst, call| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, F, "vr", nvr);
+            return null(inst, F.name(), "vr", nvr);
         };
         let Some(values) = array_mut(value, nvr) else {
-            return null(inst, F, "value", nvr);
+            return null(inst, F.name(), "value", nvr);
         };
-        inst.get_real(vrs, values)
+        inst.get_real(call, vrs, values)
     })
 }
 
@@ -309,35 +325,35 @@ pub unsafe extern "C" fn fmi2SetReal(
     nvr: usize,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    const F: &str = "fmi2SetReal";
-    call(c, F, |inst| {
+    const F: Function = Function::SetReal;
+    call(c, F, |inst, call| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, F, "vr", nvr);
+            return null(inst, F.name(), "vr", nvr);
         };
         let Some(values) = array(value, nvr) else {
-            return null(inst, F, "value", nvr);
+            return null(inst, F.name(), "value", nvr);
         };
-        inst.set_real(vrs, values)
+        inst.set_real(call, vrs, values)
     })
 }
 
 /// The getters and setters of the types this FMU has no variables of.
 unsafe fn no_variables<T>(
     c: fmi2Component,
-    f: &'static str,
+    f: Function,
     type_name: &str,
     vr: *const fmi2ValueReference,
     nvr: usize,
     value: *const T,
 ) -> fmi2Status {
-    call(c, f, |inst| {
+    call(c, f, |inst, call| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, f, "vr", nvr);
+            return null(inst, f.name(), "vr", nvr);
         };
         if nvr > 0 && value.is_null() {
-            return null(inst, f, "value", nvr);
+            return null(inst, f.name(), "value", nvr);
         }
-        inst.no_variables_of_type(f, type_name, vrs)
+        inst.no_variables_of_type(call, type_name, vrs)
     })
 }
 
@@ -348,7 +364,14 @@ pub unsafe extern "C" fn fmi2GetInteger(
     nvr: usize,
     value: *mut fmi2Integer,
 ) -> fmi2Status {
-    no_variables(c, "fmi2GetInteger", "Integer", vr, nvr, value as *const _)
+    no_variables(
+        c,
+        Function::GetInteger,
+        "Integer",
+        vr,
+        nvr,
+        value as *const _,
+    )
 }
 
 #[no_mangle]
@@ -358,7 +381,7 @@ pub unsafe extern "C" fn fmi2SetInteger(
     nvr: usize,
     value: *const fmi2Integer,
 ) -> fmi2Status {
-    no_variables(c, "fmi2SetInteger", "Integer", vr, nvr, value)
+    no_variables(c, Function::SetInteger, "Integer", vr, nvr, value)
 }
 
 #[no_mangle]
@@ -368,7 +391,14 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     nvr: usize,
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
-    no_variables(c, "fmi2GetBoolean", "Boolean", vr, nvr, value as *const _)
+    no_variables(
+        c,
+        Function::GetBoolean,
+        "Boolean",
+        vr,
+        nvr,
+        value as *const _,
+    )
 }
 
 #[no_mangle]
@@ -378,7 +408,7 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     nvr: usize,
     value: *const fmi2Boolean,
 ) -> fmi2Status {
-    no_variables(c, "fmi2SetBoolean", "Boolean", vr, nvr, value)
+    no_variables(c, Function::SetBoolean, "Boolean", vr, nvr, value)
 }
 
 #[no_mangle]
@@ -388,7 +418,7 @@ pub unsafe extern "C" fn fmi2GetString(
     nvr: usize,
     value: *mut fmi2String,
 ) -> fmi2Status {
-    no_variables(c, "fmi2GetString", "String", vr, nvr, value as *const _)
+    no_variables(c, Function::GetString, "String", vr, nvr, value as *const _)
 }
 
 #[no_mangle]
@@ -398,7 +428,7 @@ pub unsafe extern "C" fn fmi2SetString(
     nvr: usize,
     value: *const fmi2String,
 ) -> fmi2Status {
-    no_variables(c, "fmi2SetString", "String", vr, nvr, value)
+    no_variables(c, Function::SetString, "String", vr, nvr, value)
 }
 
 // ---- FMU state ------------------------------------------------------------------------------
@@ -430,12 +460,13 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
     c: fmi2Component,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    const F: &str = "fmi2GetFMUstate";
-    call(c, F, |inst| {
+    const F: Function = Function::GetFMUstate;
+    call(c, F, |inst, call| {
         let Some(slot) = FMUstate.as_mut() else {
-            return inst.invalid_argument(F, "FMUstate = NULL: must point to an fmi2FMUstate");
+            return inst
+                .invalid_argument(F.name(), "FMUstate = NULL: must point to an fmi2FMUstate");
         };
-        let state = match inst.get_fmu_state() {
+        let state = match inst.get_fmu_state(call) {
             Ok(s) => s,
             Err(s) => return s,
         };
@@ -443,7 +474,7 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
             Status::Ok
         } else {
             inst.invalid_argument(
-                F,
+                F.name(),
                 "*FMUstate is neither NULL nor a state returned by this FMU",
             )
         }
@@ -452,11 +483,11 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status {
-    const F: &str = "fmi2SetFMUstate";
-    call(c, F, |inst| match state_ref(FMUstate) {
-        Some(b) => inst.set_fmu_state(&b.state),
+    const F: Function = Function::SetFMUstate;
+    call(c, F, |inst, call| match state_ref(FMUstate) {
+        Some(b) => inst.set_fmu_state(call, &b.state),
         None => inst.invalid_argument(
-            F,
+            F.name(),
             "FMUstate is NULL or not a state returned by fmi2GetFMUstate/fmi2DeSerializeFMUstate",
         ),
     })
@@ -467,12 +498,13 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     c: fmi2Component,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    const F: &str = "fmi2FreeFMUstate";
-    call(c, F, |inst| {
+    const F: Function = Function::FreeFMUstate;
+    call(c, F, |inst, call| {
         let Some(slot) = FMUstate.as_mut() else {
-            return inst.invalid_argument(F, "FMUstate = NULL: must point to an fmi2FMUstate");
+            return inst
+                .invalid_argument(F.name(), "FMUstate = NULL: must point to an fmi2FMUstate");
         };
-        let s = inst.allow_state_call(F);
+        let s = inst.allow_call(call);
         if s != Status::Ok {
             return s;
         }
@@ -486,7 +518,9 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
                 *slot = ptr::null_mut();
                 Status::Ok
             }
-            None => inst.invalid_argument(F, "*FMUstate is not a state returned by this FMU"),
+            None => {
+                inst.invalid_argument(F.name(), "*FMUstate is not a state returned by this FMU")
+            }
         }
     })
 }
@@ -497,15 +531,15 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     FMUstate: fmi2FMUstate,
     size: *mut usize,
 ) -> fmi2Status {
-    const F: &str = "fmi2SerializedFMUstateSize";
-    call(c, F, |inst| {
+    const F: Function = Function::SerializedFMUstateSize;
+    call(c, F, |inst, call| {
         let Some(b) = state_ref(FMUstate) else {
-            return inst.invalid_argument(F, "FMUstate is NULL or not a state of this FMU");
+            return inst.invalid_argument(F.name(), "FMUstate is NULL or not a state of this FMU");
         };
         let Some(size) = size.as_mut() else {
-            return inst.invalid_argument(F, "size = NULL");
+            return inst.invalid_argument(F.name(), "size = NULL");
         };
-        match inst.serialize_fmu_state(F, &b.state) {
+        match inst.serialize_fmu_state(call, &b.state) {
             Ok(bytes) => {
                 *size = bytes.len();
                 Status::Ok
@@ -522,18 +556,18 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     serializedState: *mut fmi2Byte,
     size: usize,
 ) -> fmi2Status {
-    const F: &str = "fmi2SerializeFMUstate";
-    call(c, F, |inst| {
+    const F: Function = Function::SerializeFMUstate;
+    call(c, F, |inst, call| {
         let Some(b) = state_ref(FMUstate) else {
-            return inst.invalid_argument(F, "FMUstate is NULL or not a state of this FMU");
+            return inst.invalid_argument(F.name(), "FMUstate is NULL or not a state of this FMU");
         };
-        let bytes = match inst.serialize_fmu_state(F, &b.state) {
+        let bytes = match inst.serialize_fmu_state(call, &b.state) {
             Ok(bytes) => bytes,
             Err(s) => return s,
         };
         if size < bytes.len() {
             return inst.invalid_argument(
-                F,
+                F.name(),
                 format!(
                     "size = {size}: the state needs {} bytes (fmi2SerializedFMUstateSize)",
                     bytes.len()
@@ -541,7 +575,10 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
             );
         }
         let Some(out) = array_mut(serializedState as *mut u8, size) else {
-            return inst.invalid_argument(F, format!("serializedState = NULL with size = {size}"));
+            return inst.invalid_argument(
+                F.name(),
+                format!("serializedState = NULL with size = {size}"),
+            );
         };
         out[..bytes.len()].copy_from_slice(&bytes);
         out[bytes.len()..].fill(0);
@@ -556,15 +593,19 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     size: usize,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    const F: &str = "fmi2DeSerializeFMUstate";
-    call(c, F, |inst| {
+    const F: Function = Function::DeSerializeFMUstate;
+    call(c, F, |inst, call| {
         let Some(bytes) = array(serializedState as *const u8, size) else {
-            return inst.invalid_argument(F, format!("serializedState = NULL with size = {size}"));
+            return inst.invalid_argument(
+                F.name(),
+                format!("serializedState = NULL with size = {size}"),
+            );
         };
         let Some(slot) = FMUstate.as_mut() else {
-            return inst.invalid_argument(F, "FMUstate = NULL: must point to an fmi2FMUstate");
+            return inst
+                .invalid_argument(F.name(), "FMUstate = NULL: must point to an fmi2FMUstate");
         };
-        let state = match inst.deserialize_fmu_state(bytes) {
+        let state = match inst.deserialize_fmu_state(call, bytes) {
             Ok(s) => s,
             Err(s) => return s,
         };
@@ -572,7 +613,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
             Status::Ok
         } else {
             inst.invalid_argument(
-                F,
+                F.name(),
                 "*FMUstate is neither NULL nor a state returned by this FMU",
             )
         }
@@ -589,8 +630,8 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     _dvKnown: *const fmi2Real,
     _dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
-    call(c, "fmi2GetDirectionalDerivative", |i| {
-        i.get_directional_derivative()
+    call(c, Function::GetDirectionalDerivative, |i, call| {
+        i.get_directional_derivative(call)
     })
 }
 
@@ -604,18 +645,18 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     order: *const fmi2Integer,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    const F: &str = "fmi2SetRealInputDerivatives";
-    call(c, F, |inst| {
+    const F: Function = Function::SetRealInputDerivatives;
+    call(c, F, |inst, call| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, F, "vr", nvr);
+            return null(inst, F.name(), "vr", nvr);
         };
         let Some(orders) = array(order, nvr) else {
-            return null(inst, F, "order", nvr);
+            return null(inst, F.name(), "order", nvr);
         };
         let Some(values) = array(value, nvr) else {
-            return null(inst, F, "value", nvr);
+            return null(inst, F.name(), "value", nvr);
         };
-        inst.set_real_input_derivatives(vrs, orders, values)
+        inst.set_real_input_derivatives(call, vrs, orders, values)
     })
 }
 
@@ -627,18 +668,18 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     order: *const fmi2Integer,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    const F: &str = "fmi2GetRealOutputDerivatives";
-    call(c, F, |inst| {
+    const F: Function = Function::GetRealOutputDerivatives;
+    call(c, F, |inst, call| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, F, "vr", nvr);
+            return null(inst, F.name(), "vr", nvr);
         };
         let Some(orders) = array(order, nvr) else {
-            return null(inst, F, "order", nvr);
+            return null(inst, F.name(), "order", nvr);
         };
         let Some(values) = array_mut(value, nvr) else {
-            return null(inst, F, "value", nvr);
+            return null(inst, F.name(), "value", nvr);
         };
-        inst.get_real_output_derivatives(vrs, orders, values)
+        inst.get_real_output_derivatives(call, vrs, orders, values)
     })
 }
 
@@ -649,14 +690,14 @@ pub unsafe extern "C" fn fmi2DoStep(
     communicationStepSize: fmi2Real,
     _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
 ) -> fmi2Status {
-    call(c, "fmi2DoStep", |i| {
-        i.do_step(currentCommunicationPoint, communicationStepSize)
+    call(c, Function::DoStep, |i, call| {
+        i.do_step(call, currentCommunicationPoint, communicationStepSize)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-    call(c, "fmi2CancelStep", |i| i.cancel_step())
+    call(c, Function::CancelStep, |i, call| i.cancel_step(call))
 }
 
 #[no_mangle]
@@ -665,7 +706,9 @@ pub unsafe extern "C" fn fmi2GetStatus(
     s: fmi2StatusKind,
     _value: *mut fmi2Status,
 ) -> fmi2Status {
-    call(c, "fmi2GetStatus", |i| i.get_status(s))
+    call(c, Function::GetStatus, |i, call| {
+        co_simulation::get_status(i, call, s)
+    })
 }
 
 #[no_mangle]
@@ -674,12 +717,12 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
     s: fmi2StatusKind,
     value: *mut fmi2Real,
 ) -> fmi2Status {
-    const F: &str = "fmi2GetRealStatus";
-    call(c, F, |inst| {
+    const F: Function = Function::GetRealStatus;
+    call(c, F, |inst, call| {
         let Some(out) = value.as_mut() else {
-            return inst.invalid_argument(F, "value = NULL");
+            return inst.invalid_argument(F.name(), "value = NULL");
         };
-        let (status, v) = inst.get_real_status(s);
+        let (status, v) = co_simulation::get_real_status(inst, call, s);
         if status == Status::Ok {
             *out = v;
         }
@@ -693,7 +736,9 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(
     s: fmi2StatusKind,
     _value: *mut fmi2Integer,
 ) -> fmi2Status {
-    call(c, "fmi2GetIntegerStatus", |i| i.get_integer_status(s))
+    call(c, Function::GetIntegerStatus, |i, call| {
+        co_simulation::get_integer_status(i, call, s)
+    })
 }
 
 #[no_mangle]
@@ -702,12 +747,12 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
     s: fmi2StatusKind,
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
-    const F: &str = "fmi2GetBooleanStatus";
-    call(c, F, |inst| {
+    const F: Function = Function::GetBooleanStatus;
+    call(c, F, |inst, call| {
         let Some(out) = value.as_mut() else {
-            return inst.invalid_argument(F, "value = NULL");
+            return inst.invalid_argument(F.name(), "value = NULL");
         };
-        let (status, v) = inst.get_boolean_status(s);
+        let (status, v) = co_simulation::get_boolean_status(inst, call, s);
         if status == Status::Ok {
             *out = if v { fmi2True } else { fmi2False };
         }
@@ -721,5 +766,7 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
     s: fmi2StatusKind,
     _value: *mut fmi2String,
 ) -> fmi2Status {
-    call(c, "fmi2GetStringStatus", |i| i.get_string_status(s))
+    call(c, Function::GetStringStatus, |i, call| {
+        co_simulation::get_string_status(i, call, s)
+    })
 }

@@ -1,0 +1,82 @@
+//! The states an instance can be in, and the set of states a call is allowed in. Each FMI
+//! version's layer holds its own table of allowed states per function (`fmi2/functions.rs`) and
+//! hands the instance a [`Call`]: the function's name (for messages) and where it is allowed.
+
+use serde::{Deserialize, Serialize};
+
+/// The states of the Co-Simulation state machine this FMU can be in. A synchronous slave is
+/// never in FMI 2.0's `stepInProgress` or `stepCanceled`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum State {
+    Instantiated,
+    InitializationMode,
+    StepComplete,
+    /// After a step returned `Discard` (the integrator could not reach the end of the step;
+    /// the instance is still at the step's start).
+    StepFailed,
+    Terminated,
+    Error,
+    Fatal,
+}
+
+impl State {
+    pub const ALL: [State; 7] = [
+        State::Instantiated,
+        State::InitializationMode,
+        State::StepComplete,
+        State::StepFailed,
+        State::Terminated,
+        State::Error,
+        State::Fatal,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            State::Instantiated => "Instantiated",
+            State::InitializationMode => "InitializationMode",
+            State::StepComplete => "StepComplete",
+            State::StepFailed => "StepFailed",
+            State::Terminated => "Terminated",
+            State::Error => "Error",
+            State::Fatal => "Fatal",
+        }
+    }
+}
+
+/// A set of states.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct States(u32);
+
+impl States {
+    pub const fn of(states: &[State]) -> States {
+        let mut bits = 0;
+        let mut k = 0;
+        while k < states.len() {
+            bits |= 1 << states[k] as u32;
+            k += 1;
+        }
+        States(bits)
+    }
+
+    pub const fn contains(self, s: State) -> bool {
+        self.0 & (1 << s as u32) != 0
+    }
+
+    /// The states' names, comma-separated, in the order of [`State::ALL`].
+    pub fn names(self) -> String {
+        State::ALL
+            .iter()
+            .filter(|s| self.contains(**s))
+            .map(|s| s.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// One call of the C interface as the instance sees it: its name and the states it is allowed
+/// in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Call {
+    pub name: &'static str,
+    pub allowed: States,
+}
