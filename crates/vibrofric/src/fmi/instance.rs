@@ -539,7 +539,7 @@ impl Instance {
                             ),
                         );
                     }
-                    if let Err(e) = model::check_param(p, value, &config) {
+                    if let Err(e) = p.check_in(value, &config) {
                         return self.fail(f, format!("{e} (vr {vr})"));
                     }
                     plan.push(Assign::Param(p, value));

@@ -1,16 +1,95 @@
-//! The contact as a simulator: configuration, inputs, outputs, and the object the FMU steps.
+//! The contact as a simulator: the object the FMU steps, with no knowledge of FMI.
 //!
-//! Everything here is plain Rust with no knowledge of FMI. [`build`] turns a [`Config`] into a
-//! [`Simulator`] whose arithmetic is specialised at compile time for the law, the motion and the
-//! drive (see `contact.rs`); the support sources are chosen at run time, where they cost one
-//! branch.
+//! [`build`] turns a [`Config`] into a [`Simulator`] whose arithmetic is specialised at compile
+//! time for the law, the motion and the drive; the support sources are chosen at run time, where
+//! they cost one branch. The files, each one job:
+//! - `simulator.rs`: the object-safe [`Simulator`] trait, its errors and work counters;
+//! - `drive.rs`: how the body is moved (force, velocity, spring drive) and its equations;
+//! - `dynamics.rs`: the right-hand side and its Jacobian: deformation rate of the law, body,
+//!   normal load and lift-off, the relative velocity from the sources;
+//! - `contact.rs`: the contact the simulator steps: integrator choice, communication steps,
+//!   outputs, snapshots;
+//! - `window.rs`: the running means (`F_mean` over averaging windows, the step means);
+//! - `time.rs`: communication points as importers compute them, and time limits;
+//! - `exact.rs`: the closed-form path (longitudinal Dahl under velocity drive);
+//! - `ode.rs`: the equations as a plain ODE for other integrators.
 
 mod contact;
+mod drive;
+mod dynamics;
 mod exact;
-mod ids;
+mod ode;
 mod simulator;
+mod time;
+mod window;
 
-pub use crate::table::{Config, Drive, Lateral, Law, Motion};
-pub use contact::{canonical_time, MAX_INPUT_RATE};
-pub use ids::{check_param, param_present, param_rule, InputId, Inputs, OutputId, Outputs};
-pub use simulator::{build, build_on, Ode, Path, SimError, Simulator, StepStats, TOLERANCE_RANGE};
+pub use crate::table::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId, Outputs};
+pub use ode::Ode;
+pub use simulator::{Path, SimError, Simulator, StepStats, TOLERANCE_RANGE};
+pub use time::{canonical_time, MAX_INPUT_RATE};
+
+use crate::physics::{Dahl, Dupont, LuGre, ParamId, Params, Planar};
+use contact::boxed;
+use drive::{Force, Spring, VelocityFree, VelocityGuided};
+
+/// Builds the simulator for a configuration, with the body at rest at the origin, zero
+/// deformation, zero inputs, starting at `t_start` with relative tolerance `tolerance`. It takes
+/// the fastest path the configuration allows.
+pub fn build(
+    config: Config,
+    params: Params,
+    t_start: f64,
+    tolerance: f64,
+) -> Result<Box<dyn Simulator>, SimError> {
+    build_on(config, params, t_start, tolerance, Path::ClosedForm)
+}
+
+/// [`build`] with the path chosen: [`Path::Radau`] forces the general integrator (for tests and
+/// benchmarks of the fast paths); any other takes the fastest that applies.
+pub fn build_on(
+    config: Config,
+    params: Params,
+    t_start: f64,
+    tolerance: f64,
+    path: Path,
+) -> Result<Box<dyn Simulator>, SimError> {
+    params.validate()?;
+    for id in ParamId::ALL {
+        if id.present(&config) {
+            id.check_in(id.get(&params), &config)?;
+        }
+    }
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(SimError::Tolerance(tolerance));
+    }
+    let tolerance = tolerance.clamp(TOLERANCE_RANGE.0, TOLERANCE_RANGE.1);
+    if !t_start.is_finite() {
+        return Err(SimError::Time {
+            now: t_start,
+            target: t_start,
+        });
+    }
+    let c = config;
+    // One arm per (motion, drive) gives the state dimension N at compile time; the law is a
+    // type parameter, so every combination is a separately optimised code path.
+    macro_rules! with_law {
+        ($v:ty, $d:ty, $n:literal) => {
+            match c.law {
+                Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance, path),
+                Law::Dupont => boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance, path),
+                Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance, path),
+            }
+        };
+    }
+    Ok(match (c.motion, c.drive, c.lateral) {
+        (Motion::Longitudinal, Drive::Velocity, _) => with_law!(f64, VelocityGuided, 1),
+        (Motion::Longitudinal, Drive::Force, _) => with_law!(f64, Force, 3),
+        (Motion::Longitudinal, Drive::Spring, _) => with_law!(f64, Spring, 3),
+        (Motion::Planar, Drive::Velocity, Lateral::Guided) => {
+            with_law!(Planar, VelocityGuided, 2)
+        }
+        (Motion::Planar, Drive::Velocity, Lateral::Free) => with_law!(Planar, VelocityFree, 4),
+        (Motion::Planar, Drive::Force, _) => with_law!(Planar, Force, 6),
+        (Motion::Planar, Drive::Spring, _) => with_law!(Planar, Spring, 6),
+    })
+}

@@ -1,9 +1,10 @@
 //! The object-safe face of a contact: what the FMU layer and the tests step.
 
-use super::contact::{boxed, Force, Spring, VelocityFree, VelocityGuided, MAX_INPUT_RATE};
-use super::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId, Outputs};
-use crate::physics::{Dahl, Dupont, LuGre, ParamError, ParamId, Params, Planar};
+use super::ode::Ode;
+use super::time::MAX_INPUT_RATE;
+use crate::physics::{ParamError, ParamId, Params};
 use crate::solver::SolverError;
+use crate::table::{Config, InputId, Inputs, OutputId, Outputs};
 
 /// Why a simulator refused a call. The simulator is unchanged when an error is returned.
 #[derive(Clone, Debug, PartialEq)]
@@ -132,27 +133,6 @@ pub trait Simulator: Send {
     fn ode(&self) -> Box<dyn Ode>;
 }
 
-/// The contact's equations as a plain ODE `dy/dt = f(t, y)`, with the inputs held: what another
-/// integrator (the report's peers, or a user's own solver) needs to solve the same problem.
-/// The state is `[s | body]` as in the simulator; harmonic source and input tracks are
-/// evaluated exactly as the simulator does.
-pub trait Ode: Send + Sync {
-    /// Number of state components.
-    fn dim(&self) -> usize;
-    /// The simulator's state when the view was taken.
-    fn state(&self) -> Vec<f64>;
-    /// Natural magnitude of each component (for absolute tolerances).
-    fn scale(&self) -> Vec<f64>;
-    /// `dy = f(t, y)`.
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
-    /// `∂f/∂y` at `(t, y)`, row-major `dim × dim`, in closed form.
-    fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]);
-    /// Friction force `F_Fx` at `(t, y)`.
-    fn f_fx(&self, t: f64, y: &[f64]) -> f64;
-    /// `v_rx`, whose sign changes are the kinks of `f`.
-    fn v_rx(&self, t: f64, y: &[f64]) -> f64;
-}
-
 /// The integrator a simulator steps with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Path {
@@ -172,65 +152,3 @@ pub enum Path {
 /// rounding of the sums dominates (the fast paths floor at 1e-13 and 1e-14 anyway) and Radau's
 /// work grows without bound; above 1e-2 the error estimates no longer describe the error.
 pub const TOLERANCE_RANGE: (f64, f64) = (1e-12, 1e-2);
-
-/// Builds the simulator for a configuration, with the body at rest at the origin, zero
-/// deformation, zero inputs, starting at `t_start` with relative tolerance `tolerance`. It takes
-/// the fastest path the configuration allows.
-pub fn build(
-    config: Config,
-    params: Params,
-    t_start: f64,
-    tolerance: f64,
-) -> Result<Box<dyn Simulator>, SimError> {
-    build_on(config, params, t_start, tolerance, Path::ClosedForm)
-}
-
-/// [`build`] with the path chosen: [`Path::Radau`] forces the general integrator (for tests and
-/// benchmarks of the fast paths); any other takes the fastest that applies.
-pub fn build_on(
-    config: Config,
-    params: Params,
-    t_start: f64,
-    tolerance: f64,
-    path: Path,
-) -> Result<Box<dyn Simulator>, SimError> {
-    params.validate()?;
-    for id in ParamId::ALL {
-        if super::param_present(id, &config) {
-            super::check_param(id, id.get(&params), &config)?;
-        }
-    }
-    if !(tolerance.is_finite() && tolerance > 0.0) {
-        return Err(SimError::Tolerance(tolerance));
-    }
-    let tolerance = tolerance.clamp(TOLERANCE_RANGE.0, TOLERANCE_RANGE.1);
-    if !t_start.is_finite() {
-        return Err(SimError::Time {
-            now: t_start,
-            target: t_start,
-        });
-    }
-    let c = config;
-    // One arm per (motion, drive) gives the state dimension N at compile time; the law is a
-    // type parameter, so every combination is a separately optimised code path.
-    macro_rules! with_law {
-        ($v:ty, $d:ty, $n:literal) => {
-            match c.law {
-                Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance, path),
-                Law::Dupont => boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance, path),
-                Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance, path),
-            }
-        };
-    }
-    Ok(match (c.motion, c.drive, c.lateral) {
-        (Motion::Longitudinal, Drive::Velocity, _) => with_law!(f64, VelocityGuided, 1),
-        (Motion::Longitudinal, Drive::Force, _) => with_law!(f64, Force, 3),
-        (Motion::Longitudinal, Drive::Spring, _) => with_law!(f64, Spring, 3),
-        (Motion::Planar, Drive::Velocity, Lateral::Guided) => {
-            with_law!(Planar, VelocityGuided, 2)
-        }
-        (Motion::Planar, Drive::Velocity, Lateral::Free) => with_law!(Planar, VelocityFree, 4),
-        (Motion::Planar, Drive::Force, _) => with_law!(Planar, Force, 6),
-        (Motion::Planar, Drive::Spring, _) => with_law!(Planar, Spring, 6),
-    })
-}
