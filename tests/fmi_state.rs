@@ -5,6 +5,8 @@
 mod fmi_harness;
 
 use fmi_harness::*;
+use vibrofric::fmi::saved;
+use vibrofric::model::{ContactState, Law};
 use vibrofric_import::Status;
 
 const H: f64 = 1e-3;
@@ -182,44 +184,12 @@ fn free_state_accepts_null_and_states_survive_reset() {
     ok!(a, a.free_state(s));
 }
 
-/// FNV-1a, 64 bit: the serialized state's checksum, to craft states that pass it.
-fn fnv1a(b: &[u8]) -> u64 {
-    b.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &x| {
-        (h ^ x as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
-}
-
-/// postcard's length prefix (LEB128).
-fn varint(mut n: usize) -> Vec<u8> {
-    let mut v = vec![];
-    loop {
-        let byte = (n & 0x7f) as u8;
-        n >>= 7;
-        if n == 0 {
-            v.push(byte);
-            return v;
-        }
-        v.push(byte | 0x80);
-    }
-}
-
-/// `bytes` with number `k` of the simulator snapshot (the last field of the payload, a
-/// sequence of `f64` after its length) replaced by `value`, and the checksum made to match.
-/// Layout: magic (16), version (4), payload length (4), payload, checksum (8).
-fn crafted(bytes: &[u8], k: usize, value: f64) -> Vec<u8> {
-    let mut b = bytes.to_vec();
-    let end = b.len() - 8;
-    let n = (1..4096)
-        .find(|&n| {
-            let prefix = varint(n);
-            end >= 8 * n + prefix.len() && b[end - 8 * n - prefix.len()..end - 8 * n] == prefix[..]
-        })
-        .unwrap();
-    let at = end - 8 * n + 8 * k;
-    b[at..at + 8].copy_from_slice(&value.to_bits().to_le_bytes());
-    let sum = fnv1a(&b[..end]);
-    b[end..].copy_from_slice(&sum.to_le_bytes());
-    b
+/// `bytes` (a serialized state) with one field of the contact's state changed by `edit`,
+/// written back in the FMU's own format (so that magic, version and checksum all pass).
+fn crafted(bytes: &[u8], edit: impl Fn(&mut ContactState)) -> Vec<u8> {
+    let mut state = saved::decode(bytes).unwrap();
+    edit(state.sim.as_mut().unwrap());
+    saved::encode(&state)
 }
 
 /// A serialized state is untrusted input: one whose checksum matches but whose fields are
@@ -233,23 +203,31 @@ fn crafted_states_are_refused_field_by_field() {
     ok!(a, a.do_step(0.0, H));
     let s = a.get_state().unwrap();
     let bytes = a.serialize_state(&s).unwrap();
-    // Snapshot layout: configuration code, 19 parameters (f is the 13th), 5 input tracks of
-    // (t_ref, value, slope), x_kin_ref, the harmonic's (t_ref, phase), the window's (origin,
-    // length, index, integral, last mean, flag), ...
-    let cases: [(usize, f64, &str); 6] = [
-        (13, 1e12, "parameter f = 1e12"),
-        (37, f64::NEG_INFINITY, "number 37 is -inf"),
-        (39, 0.0, "window length = 0"),
-        (40, 0.5, "window index = 0.5"),
-        (21, 5e9, "input F_d = 5000000000"),
-        (1 + 19 + 15 + 2, 7.0, "harmonic phase reference = 7"),
+    type Edit = fn(&mut ContactState);
+    let cases: [(Edit, &str); 7] = [
+        (|s| s.params.f = 1e12, "parameter f = 1e12"),
+        (
+            |s| s.window.acc = f64::NEG_INFINITY,
+            "window integral is -inf",
+        ),
+        (|s| s.window.len = 0.0, "window length = 0"),
+        (
+            |s| s.window.index = u64::MAX,
+            "window index = 18446744073709551615",
+        ),
+        (|s| s.tracks[0].value = 5e9, "input F_d = 5000000000"),
+        (
+            |s| s.harmonic_theta_ref = 7.0,
+            "harmonic phase reference = 7",
+        ),
+        (|s| s.config.law = Law::LuGre, "taken from another scene"),
     ];
     let mut b = started(&fmu, "b", &[]);
     ok!(b, b.do_step(0.0, H));
     let before = b.get_real(&vrs).unwrap();
-    for (k, value, field) in cases {
+    for (edit, field) in cases {
         assert_eq!(
-            b.deserialize_state(&crafted(&bytes, k, value)).err(),
+            b.deserialize_state(&crafted(&bytes, edit)).err(),
             Some(Status::Error),
             "{field}"
         );

@@ -6,8 +6,8 @@
 pub mod fmi2;
 pub mod instance;
 pub mod log;
-mod saved;
-mod staging;
+pub mod saved;
+pub mod staging;
 pub mod state;
 mod status;
 pub mod uri;

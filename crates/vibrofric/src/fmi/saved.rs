@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use super::staging::Staged;
 use super::state::State;
-use crate::model::{self, InputId};
+use crate::model::{self, ContactState, InputId};
 use crate::physics::ParamId;
 
 /// A saved FMU state: the state machine's state, the staged values and the simulator's
@@ -24,14 +24,14 @@ use crate::physics::ParamId;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FmuState {
     /// The GUID of the FMU the state was taken from.
-    pub(crate) guid: String,
-    pub(crate) staged: Staged,
-    /// The simulator's snapshot, once it exists.
-    pub(crate) sim: Option<Vec<f64>>,
+    pub guid: String,
+    pub staged: Staged,
+    /// The simulator's state, once it exists.
+    pub sim: Option<ContactState>,
 }
 
 const MAGIC: &[u8; 16] = b"vibrofric-state\0";
-/// 4: postcard payload (3: hand-written layout).
+/// 4: postcard payload with the contact's named state (3: hand-written layout).
 const FORMAT_VERSION: u32 = 4;
 
 /// FNV-1a, 64 bit: detects a corrupted or truncated byte string.

@@ -14,7 +14,7 @@ use crate::physics::{ParamId, Params};
 pub const DEFAULT_TOLERANCE: f64 = xml::DEFAULT_EXPERIMENT.2;
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub(crate) struct Staged {
+pub struct Staged {
     pub state: State,
     /// Parameter values: staged before the simulator exists, its mirror afterwards.
     pub params: Params,

@@ -16,6 +16,7 @@ use super::dynamics::{lift_off, Dynamics, Eval, Relaxation1, System};
 use super::exact;
 use super::ode::{ContactOde, Ode};
 use super::simulator::{Path, SimError, Simulator, StepStats};
+use super::state::ContactState;
 use super::time::{canonical_time, MAX_INPUT_RATE, TIME_SNAP, WINDOWS_MAX};
 use super::window::{affine_sums, StepMean, Window};
 use crate::physics::{FrictionLaw, Harmonic, InputTrack, ParamId, Params, Relaxation, Vector};
@@ -28,30 +29,30 @@ use crate::table::{Config, InputId, Inputs, OutputId, Outputs};
 /// A contact with its integrator: implements [`Simulator`].
 #[derive(Clone, Debug)]
 pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
-    config: Config,
-    params: Params,
-    dynamics: Dynamics<V, L, D>,
+    pub(super) config: Config,
+    pub(super) params: Params,
+    pub(super) dynamics: Dynamics<V, L, D>,
     /// Natural magnitudes of the state components.
-    scale: [f64; N],
+    pub(super) scale: [f64; N],
     /// Natural magnitude of the friction force, for the error of its integral.
-    force_scale: f64,
+    pub(super) force_scale: f64,
     /// Natural magnitudes of the switching functions `v_rx` and `s·v_r`.
-    switch_scale: [f64; MAX_SWITCH],
-    radau: Radau5<N>,
+    pub(super) switch_scale: [f64; MAX_SWITCH],
+    pub(super) radau: Radau5<N>,
     /// Radau even where the closed form applies (tests and benchmarks of the fast path).
-    radau_only: bool,
+    pub(super) radau_only: bool,
     /// The exponential integrator's proposed step (0: none yet).
-    exp_h: f64,
+    pub(super) exp_h: f64,
     /// The integrator's scratch matrices, kept across communication steps.
-    work: Workspace,
-    window: Window,
-    step: StepMean,
+    pub(super) work: Workspace,
+    pub(super) window: Window,
+    pub(super) step: StepMean,
     /// The start time: every time inside the contact (integrator, input tracks, harmonic
     /// phase, windows) counts from it, so that a start time of 1e9 s keeps the resolution of
     /// one of 0.
-    epoch: f64,
+    pub(super) epoch: f64,
     /// The current time as the importer gave it.
-    t_abs: f64,
+    pub(super) t_abs: f64,
 }
 
 /// Builds the contact with state dimension `N` (checked against the types).
@@ -77,7 +78,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         c
     }
 
-    fn new_local(config: Config, params: Params, tolerance: f64) -> Self {
+    pub(super) fn new_local(config: Config, params: Params, tolerance: f64) -> Self {
         let t_start = 0.0;
         let dynamics = Dynamics {
             law: L::new(&params),
@@ -155,7 +156,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         }
     }
 
-    fn update_scale(&mut self) {
+    pub(super) fn update_scale(&mut self) {
         let p = &self.params;
         let s_nom = self.dynamics.law.s_scale();
         let v_a = self.dynamics.harmonic.map_or(0.0, |h| h.v_a());
@@ -402,21 +403,6 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         } else {
             self.eval_now().f.x()
         }
-    }
-
-    /// Number of numbers in a snapshot.
-    const SNAPSHOT_LEN: usize =
-        1 + ParamId::ALL.len() + 15 + 1 + 2 + 6 + Radau5::<N>::SAVED_LEN + 1 + 6 + 1 + 2;
-
-    fn config_code(&self) -> f64 {
-        let c = &self.config;
-        (c.law as u8 as f64)
-            + 4.0 * (c.motion as u8 as f64)
-            + 8.0 * (c.drive as u8 as f64)
-            + 32.0 * (c.lateral as u8 as f64)
-            + 64.0 * (c.harmonic as u8 as f64)
-            + 128.0 * (c.input_support as u8 as f64)
-            + 256.0 * (c.normal_input as u8 as f64)
     }
 }
 
@@ -758,184 +744,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         }
     }
 
-    fn snapshot(&self) -> Vec<f64> {
-        let mut out = Vec::with_capacity(Self::SNAPSHOT_LEN);
-        out.push(self.config_code());
-        out.extend(ParamId::ALL.iter().map(|id| id.get(&self.params)));
-        for t in &self.dynamics.tracks {
-            out.extend_from_slice(&[t.t_ref, t.value, t.slope]);
-        }
-        out.push(self.dynamics.x_kin_ref);
-        let h = self
-            .dynamics
-            .harmonic
-            .unwrap_or(Harmonic::new(0.0, 0.0, 0.0, 0.0, 0.0));
-        out.extend_from_slice(&[h.t_ref, h.theta_ref]);
-        let w = &self.window;
-        out.extend_from_slice(&[
-            w.origin,
-            w.len,
-            w.index as f64,
-            w.acc,
-            w.last.unwrap_or(0.0),
-            w.last.is_some() as u8 as f64,
-        ]);
-        self.radau.save(&mut out);
-        out.push(self.exp_h);
-        let st = &self.step;
-        let last = st.last.unwrap_or([0.0; MAX_QUAD]);
-        out.extend_from_slice(&[
-            st.last.is_some() as u8 as f64,
-            last[0],
-            last[1],
-            st.h,
-            st.f_start[0],
-            st.f_start[1],
-            self.dynamics.lifted as u8 as f64,
-            self.epoch,
-            self.t_abs,
-        ]);
-        debug_assert_eq!(out.len(), Self::SNAPSHOT_LEN);
-        out
+    fn snapshot(&self) -> ContactState {
+        self.save()
     }
 
-    /// Restores a snapshot, which is untrusted input (a serialized state may be crafted): every
-    /// number is checked as the call that set it checks it, and for consistency with the rest;
-    /// the first field that fails is named and nothing changes.
-    fn restore(&mut self, state: &[f64]) -> Result<(), SimError> {
-        let bad = |what: String| Err(SimError::BadSnapshot(what));
-        if state.len() != Self::SNAPSHOT_LEN {
-            return bad(format!(
-                "{} numbers, this scene's state has {}",
-                state.len(),
-                Self::SNAPSHOT_LEN
-            ));
-        }
-        if state[0] != self.config_code() {
-            return bad("taken from another scene (configuration code)".into());
-        }
-        if let Some(k) = state.iter().position(|x| !x.is_finite()) {
-            return bad(format!(
-                "number {k} is {}: every number must be finite",
-                state[k]
-            ));
-        }
-        let mut params = Params::default();
-        for (k, id) in ParamId::ALL.iter().enumerate() {
-            let value = state[1 + k];
-            id.check_in(value, &self.config)
-                .and_then(|_| id.set(&mut params, value))
-                .or_else(|e| bad(format!("parameter {e}")))?;
-        }
-        let mut rest = &state[1 + ParamId::ALL.len()..];
-        let mut tracks = [InputTrack::default(); 5];
-        for (t, id) in tracks.iter_mut().zip(InputId::ALL) {
-            *t = InputTrack {
-                t_ref: rest[0],
-                value: rest[1],
-                slope: rest[2],
-            };
-            rest = &rest[3..];
-            if id.present(&self.config) && !id.rule().holds(t.value) {
-                return bad(format!(
-                    "input {} = {}: {}",
-                    id.name(),
-                    t.value,
-                    id.rule().text(t.value, id.unit())
-                ));
-            }
-            if t.slope.abs() > MAX_INPUT_RATE {
-                return bad(format!(
-                    "derivative of {} = {}: beyond {MAX_INPUT_RATE:e}",
-                    id.name(),
-                    t.slope
-                ));
-            }
-        }
-        let x_kin_ref = rest[0];
-        let (h_t_ref, h_theta_ref) = (rest[1], rest[2]);
-        if !(0.0..=std::f64::consts::TAU).contains(&h_theta_ref) {
-            return bad(format!(
-                "harmonic phase reference = {h_theta_ref}: must be in [0, 2 pi)"
-            ));
-        }
-        let w = &rest[3..9];
-        let (rest, step) = rest.split_at(rest.len() - 9);
-        let (integrator, exp_h) = rest[9..].split_at(rest.len() - 10);
-        let radau = Radau5::<N>::load(integrator)
-            .ok_or(SimError::BadSnapshot("integrator state".into()))?;
-        let (lo, hi) = super::TOLERANCE_RANGE;
-        if !(lo..=hi).contains(&radau.tolerance()) {
-            return bad(format!(
-                "tolerance = {}: must be in [{lo:e}, {hi:e}]",
-                radau.tolerance()
-            ));
-        }
-        let mut c = Contact::<V, L, D, N>::new_local(self.config, params, radau.tolerance());
-        // The averaging window: the length the parameters give, a whole index, the current
-        // time inside the window.
-        let index = w[2];
-        if w[1] != c.window.len {
-            return bad(format!(
-                "window length = {}: the parameters give {}",
-                w[1], c.window.len
-            ));
-        }
-        if !(index >= 0.0 && index.fract() == 0.0 && index <= WINDOWS_MAX) {
-            return bad(format!(
-                "window index = {index}: must be a whole number in [0, {WINDOWS_MAX:e}]"
-            ));
-        }
-        let (w_start, w_end) = (w[0] + index * w[1], w[0] + (index + 1.0) * w[1]);
-        let slack = 1e-9 * w[1] + 4.0 * f64::EPSILON * radau.t.abs();
-        if !(radau.t >= w_start - slack && radau.t <= w_end + slack) {
-            return bad(format!(
-                "time {} outside the averaging window [{w_start}, {w_end}]",
-                radau.t
-            ));
-        }
-        if ![0.0, 1.0].contains(&w[5])
-            || ![0.0, 1.0].contains(&step[0])
-            || ![0.0, 1.0].contains(&step[6])
-        {
-            return bad("a flag is neither 0 nor 1".into());
-        }
-        if exp_h[0] < 0.0 || step[3] < 0.0 {
-            return bad("a step length is negative".into());
-        }
-        let (epoch, t_abs) = (step[7], step[8]);
-        if (t_abs - epoch - radau.t).abs() > 1e-9 * t_abs.abs().max(1.0) {
-            return bad(format!(
-                "time {t_abs} is not the start time {epoch} plus the integrator's time {}",
-                radau.t
-            ));
-        }
-        (c.epoch, c.t_abs) = (epoch, t_abs);
-        c.dynamics.tracks = tracks;
-        c.dynamics.x_kin_ref = x_kin_ref;
-        if let Some(h) = &mut c.dynamics.harmonic {
-            h.t_ref = h_t_ref;
-            h.theta_ref = h_theta_ref;
-        }
-        c.window = Window {
-            origin: w[0],
-            len: w[1],
-            index: index as u64,
-            acc: w[3],
-            last: (w[5] != 0.0).then_some(w[4]),
-        };
-        c.radau = radau;
-        c.radau_only = self.radau_only;
-        c.exp_h = exp_h[0];
-        c.step = StepMean {
-            acc: [0.0; MAX_QUAD],
-            last: (step[0] != 0.0).then_some([step[1], step[2]]),
-            h: step[3],
-            f_start: [step[4], step[5]],
-        };
-        c.dynamics.lifted = step[6] != 0.0;
-        c.update_scale();
-        *self = c;
+    fn restore(&mut self, state: &ContactState) -> Result<(), SimError> {
+        *self = self.load(state)?;
         Ok(())
     }
 

@@ -8,7 +8,9 @@
 //! - `dynamics.rs`: the right-hand side and its Jacobian: deformation rate of the law, body,
 //!   normal load and lift-off, the relative velocity from the sources;
 //! - `contact.rs`: the contact the simulator steps: integrator choice, communication steps,
-//!   outputs, snapshots;
+//!   outputs;
+//! - `state.rs`, `snapshot.rs`: the contact's complete state by name; taking it and restoring
+//!   it with every field checked;
 //! - `window.rs`: the running means (`F_mean` over averaging windows, the step means);
 //! - `time.rs`: communication points as importers compute them, and time limits;
 //! - `exact.rs`: the closed-form path (longitudinal Dahl under velocity drive);
@@ -20,12 +22,15 @@ mod dynamics;
 mod exact;
 mod ode;
 mod simulator;
+mod snapshot;
+mod state;
 mod time;
 mod window;
 
 pub use crate::table::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId, Outputs};
 pub use ode::Ode;
 pub use simulator::{Path, SimError, Simulator, StepStats, TOLERANCE_RANGE};
+pub use state::{ContactState, StepMeanState, WindowState};
 pub use time::{canonical_time, MAX_INPUT_RATE};
 
 use crate::physics::{Dahl, Dupont, LuGre, ParamId, Params, Planar};

@@ -1,6 +1,7 @@
 //! The object-safe face of a contact: what the FMU layer and the tests step.
 
 use super::ode::Ode;
+use super::state::ContactState;
 use super::time::MAX_INPUT_RATE;
 use crate::physics::{ParamError, ParamId, Params};
 use crate::solver::SolverError;
@@ -122,10 +123,12 @@ pub trait Simulator: Send {
     fn stats(&self) -> StepStats;
     /// The integrator this simulator steps with.
     fn path(&self) -> Path;
-    /// The complete state as numbers; [`Simulator::restore`] on a simulator built with the same
-    /// configuration continues bit-for-bit.
-    fn snapshot(&self) -> Vec<f64>;
-    fn restore(&mut self, state: &[f64]) -> Result<(), SimError>;
+    /// The complete state; [`Simulator::restore`] on a simulator built with the same
+    /// configuration continues bit for bit.
+    fn snapshot(&self) -> ContactState;
+    /// Restores a state after checking every field (it is untrusted input); on error nothing
+    /// changes.
+    fn restore(&mut self, state: &ContactState) -> Result<(), SimError>;
     /// A copy of this simulator.
     fn clone_box(&self) -> Box<dyn Simulator>;
     /// The equations this simulator integrates, with its inputs as they are set now (held),

@@ -68,7 +68,7 @@ impl Harmonic {
 
 /// An importer input over one communication step: `u(t) = value + slope·(t − t_ref)`
 /// (held when `slope` = 0, extrapolated after `fmi2SetRealInputDerivatives`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct InputTrack {
     pub t_ref: f64,
     pub value: f64,

@@ -1,7 +1,7 @@
 //! What a contact is made of: the choices a scene makes (`docs/scenes.md`).
 
 /// Friction law of the contact zone.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Law {
     Dahl,
     Dupont,
@@ -9,14 +9,14 @@ pub enum Law {
 }
 
 /// Kinematics of the contact: 1-D along x, or the full sliding plane.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Motion {
     Longitudinal,
     Planar,
 }
 
 /// How the body is moved.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Drive {
     /// `F_d` input, body dynamics.
     Force,
@@ -27,7 +27,7 @@ pub enum Drive {
 }
 
 /// Lateral motion of a planar velocity drive.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Lateral {
     /// `m·dv_y/dt = −F_Fy`
     Free,
@@ -36,7 +36,7 @@ pub enum Lateral {
 }
 
 /// The structural choices of one contact. Parameter values are not part of it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub struct Config {
     pub law: Law,
     pub motion: Motion,

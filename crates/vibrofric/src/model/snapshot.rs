@@ -1,0 +1,161 @@
+//! Taking a contact's complete state ([`ContactState`]) and restoring it, which checks every
+//! field: a saved state is untrusted input (it may have been serialized, edited
+//! and read back), so each value is checked as the call that sets it checks it and for
+//! consistency with the rest; the first field that fails is named and nothing changes.
+
+use super::contact::Contact;
+use super::drive::DriveKind;
+use super::simulator::SimError;
+use super::state::{ContactState, StepMeanState, WindowState};
+use super::time::{MAX_INPUT_RATE, WINDOWS_MAX};
+use super::window::{StepMean, Window};
+use crate::physics::{FrictionLaw, Harmonic, Params, Vector};
+use crate::solver::{Radau5, MAX_QUAD};
+use crate::table::InputId;
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
+    /// The complete state.
+    pub(super) fn save(&self) -> ContactState {
+        let h = self
+            .dynamics
+            .harmonic
+            .unwrap_or(Harmonic::new(0.0, 0.0, 0.0, 0.0, 0.0));
+        let mut integrator = Vec::with_capacity(Radau5::<N>::SAVED_LEN);
+        self.radau.save(&mut integrator);
+        ContactState {
+            config: self.config,
+            params: self.params,
+            tracks: self.dynamics.tracks,
+            x_kin_ref: self.dynamics.x_kin_ref,
+            harmonic_t_ref: h.t_ref,
+            harmonic_theta_ref: h.theta_ref,
+            window: WindowState {
+                origin: self.window.origin,
+                len: self.window.len,
+                index: self.window.index,
+                acc: self.window.acc,
+                last: self.window.last,
+            },
+            integrator,
+            exp_h: self.exp_h,
+            step_mean: StepMeanState {
+                last: self.step.last,
+                h: self.step.h,
+                f_start: self.step.f_start,
+            },
+            lifted: self.dynamics.lifted,
+            epoch: self.epoch,
+            t_abs: self.t_abs,
+        }
+    }
+
+    /// The contact a state describes, after checking every field.
+    pub(super) fn load(&self, s: &ContactState) -> Result<Self, SimError> {
+        let bad = |what: String| Err(SimError::BadSnapshot(what));
+        if s.config != self.config {
+            return bad("taken from another scene (configuration)".into());
+        }
+        if let Some((name, x)) = s.numbers().into_iter().find(|(_, x)| !x.is_finite()) {
+            return bad(format!("{name} is {x}: every number must be finite"));
+        }
+        let mut params = Params::default();
+        for id in crate::physics::ParamId::ALL {
+            let value = id.get(&s.params);
+            id.check_in(value, &self.config)
+                .and_then(|_| id.set(&mut params, value))
+                .map_err(|e| SimError::BadSnapshot(format!("parameter {e}")))?;
+        }
+        for (t, id) in s.tracks.iter().zip(InputId::ALL) {
+            if id.present(&self.config) && !id.rule().holds(t.value) {
+                return bad(format!(
+                    "input {} = {}: {}",
+                    id.name(),
+                    t.value,
+                    id.rule().text(t.value, id.unit())
+                ));
+            }
+            if t.slope.abs() > MAX_INPUT_RATE {
+                return bad(format!(
+                    "derivative of {} = {}: beyond {MAX_INPUT_RATE:e}",
+                    id.name(),
+                    t.slope
+                ));
+            }
+        }
+        let theta_ref = s.harmonic_theta_ref;
+        if !(0.0..=std::f64::consts::TAU).contains(&theta_ref) {
+            return bad(format!(
+                "harmonic phase reference = {theta_ref}: must be in [0, 2 pi)"
+            ));
+        }
+        let radau = Radau5::<N>::load(&s.integrator)
+            .ok_or(SimError::BadSnapshot("integrator state".into()))?;
+        let (lo, hi) = super::TOLERANCE_RANGE;
+        if !(lo..=hi).contains(&radau.tolerance()) {
+            return bad(format!(
+                "tolerance = {}: must be in [{lo:e}, {hi:e}]",
+                radau.tolerance()
+            ));
+        }
+        let mut c = Contact::<V, L, D, N>::new_local(self.config, params, radau.tolerance());
+        // The averaging window: the length the parameters give, an index within range, the
+        // current time inside the window.
+        let w = &s.window;
+        if w.len != c.window.len {
+            return bad(format!(
+                "window length = {}: the parameters give {}",
+                w.len, c.window.len
+            ));
+        }
+        if w.index as f64 > WINDOWS_MAX {
+            return bad(format!(
+                "window index = {}: must be at most {WINDOWS_MAX:e}",
+                w.index
+            ));
+        }
+        let index = w.index as f64;
+        let (w_start, w_end) = (w.origin + index * w.len, w.origin + (index + 1.0) * w.len);
+        let slack = 1e-9 * w.len + 4.0 * f64::EPSILON * radau.t.abs();
+        if !(radau.t >= w_start - slack && radau.t <= w_end + slack) {
+            return bad(format!(
+                "time {} outside the averaging window [{w_start}, {w_end}]",
+                radau.t
+            ));
+        }
+        if s.exp_h < 0.0 || s.step_mean.h < 0.0 {
+            return bad("a step length is negative".into());
+        }
+        if (s.t_abs - s.epoch - radau.t).abs() > 1e-9 * s.t_abs.abs().max(1.0) {
+            return bad(format!(
+                "time {} is not the start time {} plus the integrator's time {}",
+                s.t_abs, s.epoch, radau.t
+            ));
+        }
+        (c.epoch, c.t_abs) = (s.epoch, s.t_abs);
+        c.dynamics.tracks = s.tracks;
+        c.dynamics.x_kin_ref = s.x_kin_ref;
+        if let Some(h) = &mut c.dynamics.harmonic {
+            h.t_ref = s.harmonic_t_ref;
+            h.theta_ref = theta_ref;
+        }
+        c.window = Window {
+            origin: w.origin,
+            len: w.len,
+            index: w.index,
+            acc: w.acc,
+            last: w.last,
+        };
+        c.radau = radau;
+        c.radau_only = self.radau_only;
+        c.exp_h = s.exp_h;
+        c.step = StepMean {
+            acc: [0.0; MAX_QUAD],
+            last: s.step_mean.last,
+            h: s.step_mean.h,
+            f_start: s.step_mean.f_start,
+        };
+        c.dynamics.lifted = s.lifted;
+        c.update_scale();
+        Ok(c)
+    }
+}
