@@ -14,8 +14,7 @@ pub mod expint;
 mod lu;
 pub mod quadrature;
 mod radau;
+mod system;
 
-pub use radau::{
-    OdeSystem, Quad, Radau5, SolverError, SolverStats, Step, Workspace, B, C, MAX_DIM, MAX_QUAD,
-    MAX_SWITCH,
-};
+pub use radau::{Radau5, Workspace, B, C};
+pub use system::{OdeSystem, Quad, SolverError, SolverStats, Step, MAX_DIM, MAX_QUAD, MAX_SWITCH};
