@@ -400,9 +400,9 @@ impl Instance {
         Status::Ok
     }
 
-    /// `fmi2FreeInstance` (the C layer then drops the instance).
-    pub fn free(&self) {
-        self.event(|| "fmi2FreeInstance".to_string());
+    /// Freeing: logs it (the C layer then drops the instance).
+    pub fn free(&self, call: Call) {
+        self.event(|| call.name.to_string());
     }
 
     fn build_sim(&self) -> Result<Box<dyn Simulator>, SimError> {

@@ -210,7 +210,10 @@ pub unsafe extern "C" fn fmi2Instantiate(
             make_logger().log(
                 Status::Error,
                 Category::StatusError.name(),
-                "fmi2Instantiate: internal error (caught); no instance was created",
+                &format!(
+                    "{}: internal error (caught); no instance was created",
+                    F.name()
+                ),
             );
             ptr::null_mut()
         }
@@ -220,7 +223,9 @@ pub unsafe extern "C" fn fmi2Instantiate(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     if let Some(comp) = component(c) {
-        let _ = catch_unwind(AssertUnwindSafe(|| comp.inst.free()));
+        let _ = catch_unwind(AssertUnwindSafe(|| {
+            comp.inst.free(Function::FreeInstance.call())
+        }));
         comp.magic = 0;
         let b = Box::from_raw(comp as *mut Component);
         let _ = catch_unwind(AssertUnwindSafe(move || drop(b)));
