@@ -656,8 +656,7 @@ impl Instance {
             }
             None => {
                 for (id, d) in plan {
-                    let k = InputId::ALL.iter().position(|&i| i == id).unwrap_or(0);
-                    self.st.derivs[k] = Some(d);
+                    self.st.derivs[id.index()] = Some(d);
                 }
                 self.provisional = None;
             }

@@ -196,7 +196,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         if !id.present(&self.config) {
             return Err(SimError::NoSuchInput(id.name()));
         }
-        Ok(InputId::ALL.iter().position(|&i| i == id).unwrap_or(0))
+        Ok(id.index())
     }
 
     /// The closed-form path's relaxation, where this contact takes it: a longitudinal velocity
@@ -649,7 +649,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             }
         }
         // Keep x_kin anchored near the current time for precision.
-        let vd = &mut self.dynamics.tracks[1];
+        let vd = &mut self.dynamics.tracks[InputId::VD.index()];
         self.dynamics.x_kin_ref += vd.integral(t);
         vd.t_ref = t;
         Ok(())
@@ -696,7 +696,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     fn output_derivative(&self, id: OutputId) -> Option<f64> {
         let e = self.eval_now();
         let body = &self.radau.y.as_slice()[V::DIM..];
-        let a_d = self.dynamics.tracks[1].slope;
+        let a_d = self.dynamics.tracks[InputId::VD.index()].slope;
         match id {
             OutputId::X => Some(e.v.x()),
             OutputId::Y => Some(e.v.y()),
@@ -780,10 +780,10 @@ mod tests {
     /// v_r), for every law, motion and drive.
     fn check<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(c: Config, p: Params) {
         let mut contact = Contact::<V, L, D, N>::new(c, p, 0.0, 1e-6);
-        contact.dynamics.tracks[0].value = 3.0; // F_d
-        contact.dynamics.tracks[1].value = 1.2e-3; // v_d
-        contact.dynamics.tracks[2].value = 2e-4; // v_sx
-        contact.dynamics.tracks[3].value = -3e-4; // v_sy
+        contact.dynamics.tracks[InputId::FD.index()].value = 3.0; // F_d
+        contact.dynamics.tracks[InputId::VD.index()].value = 1.2e-3; // v_d
+        contact.dynamics.tracks[InputId::VSx.index()].value = 2e-4; // v_sx
+        contact.dynamics.tracks[InputId::VSy.index()].value = -3e-4; // v_sy
         let sys = contact.system();
         let s_ss = p.f_c() / p.k_t;
         for (k, frac) in [0.1, 0.62, 0.8, 0.97, -0.7].into_iter().enumerate() {

@@ -13,6 +13,7 @@ use super::exact::Forcing;
 use crate::physics::{FrictionLaw, Harmonic, InputTrack, Params, Vector};
 use crate::solver::expint::{Relaxing, Sample};
 use crate::solver::{OdeSystem, Quad, MAX_DIM, MAX_SWITCH};
+use crate::table::InputId;
 
 /// The normal force below which the body has lifted off: the integrator's relative tolerance
 /// of the reference load (1 N without one). The friction the contact could still carry is then
@@ -86,14 +87,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
         if self.lifted {
             0.0
         } else {
-            self.tracks[4].at(t).max(0.0)
+            self.tracks[InputId::FN.index()].at(t).max(0.0)
         }
     }
 
     /// Whether a body with the load input at `t` is off the support: at most the lift-off
     /// load, and not rising.
     pub(super) fn off_at(&self, t: f64) -> bool {
-        let track = &self.tracks[4];
+        let track = &self.tracks[InputId::FN.index()];
         let f_n = track.at(t);
         f_n < self.lift_off || (f_n == self.lift_off && track.slope <= 0.0)
     }
@@ -121,7 +122,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
     /// onto.
     pub(super) fn load_event(&self, t0: f64, t1: f64) -> Option<f64> {
         self.load.as_ref()?;
-        let track = &self.tracks[4];
+        let track = &self.tracks[InputId::FN.index()];
         if track.slope == 0.0 || (track.slope < 0.0) == self.lifted {
             return None;
         }
@@ -131,9 +132,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
 
     #[inline(always)]
     pub(super) fn drive_inputs(&self, t: f64) -> DriveInputs {
-        let vd = &self.tracks[1];
+        let vd = &self.tracks[InputId::VD.index()];
         DriveInputs {
-            f_d: self.tracks[0].at(t),
+            f_d: self.tracks[InputId::FD.index()].at(t),
             v_d: vd.at(t),
             x_kin: self.x_kin_ref + vd.integral(t),
         }
@@ -148,7 +149,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
             vs = V::from_xy(x, y);
         }
         if input_support {
-            vs = vs + V::from_xy(self.tracks[2].at(t), self.tracks[3].at(t));
+            vs = vs
+                + V::from_xy(
+                    self.tracks[InputId::VSx.index()].at(t),
+                    self.tracks[InputId::VSy.index()].at(t),
+                );
         }
         vs
     }
@@ -156,7 +161,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
     /// The relative velocity along x of a velocity drive from `t` on, for the closed-form path:
     /// the affine input tracks and the harmonic source's x component.
     pub(super) fn forcing_x(&self, t: f64, input_support: bool) -> Forcing {
-        let (vd, vsx) = (&self.tracks[1], &self.tracks[2]);
+        let (vd, vsx) = (
+            &self.tracks[InputId::VD.index()],
+            &self.tracks[InputId::VSx.index()],
+        );
         let (mut b0, mut b1) = (vd.at(t), vd.slope);
         if input_support {
             b0 -= vsx.at(t);
