@@ -83,11 +83,6 @@ macro_rules! parameters {
                 match self { $( ParamId::$id => $description, )* }
             }
 
-            /// The value before any scene or importer sets it.
-            pub fn default_value(self) -> f64 {
-                match self { $( ParamId::$id => $default, )* }
-            }
-
             /// The accepted range in every scene (see [`Rule`]).
             pub const fn rule(self) -> Rule {
                 match self { $( ParamId::$id => $rule, )* }

@@ -95,9 +95,6 @@ mod tests {
     #[test]
     fn defaults_obey_rules() {
         Params::default().validate().unwrap();
-        for id in ParamId::ALL {
-            assert_eq!(id.get(&Params::default()), id.default_value());
-        }
     }
 
     #[test]
