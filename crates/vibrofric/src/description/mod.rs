@@ -8,5 +8,6 @@ pub mod reference;
 pub mod scene;
 pub mod variables;
 pub mod xml;
+pub mod xml3;
 
 pub use scene::{Scene, SceneError};

@@ -85,7 +85,7 @@ fn indices(vars: &[&Variable], vrs: &[u32]) -> Vec<usize> {
     idx
 }
 
-fn joined(idx: &[usize]) -> String {
+fn joined<T: ToString>(idx: &[T]) -> String {
     idx.iter()
         .map(|i| i.to_string())
         .collect::<Vec<_>>()
@@ -118,9 +118,9 @@ pub fn guid(scene: &Scene) -> String {
     )
 }
 
-type W = Writer<Vec<u8>>;
+pub(super) type W = Writer<Vec<u8>>;
 
-fn empty(w: &mut W, name: &str, attrs: &[(&str, &str)]) -> std::io::Result<()> {
+pub(super) fn empty(w: &mut W, name: &str, attrs: &[(&str, &str)]) -> std::io::Result<()> {
     let mut e = BytesStart::new(name);
     for a in attrs {
         e.push_attribute(*a);
@@ -128,7 +128,7 @@ fn empty(w: &mut W, name: &str, attrs: &[(&str, &str)]) -> std::io::Result<()> {
     w.write_event(Event::Empty(e))
 }
 
-fn open(w: &mut W, name: &str, attrs: &[(&str, &str)]) -> std::io::Result<()> {
+pub(super) fn open(w: &mut W, name: &str, attrs: &[(&str, &str)]) -> std::io::Result<()> {
     let mut e = BytesStart::new(name);
     for a in attrs {
         e.push_attribute(*a);
@@ -136,7 +136,7 @@ fn open(w: &mut W, name: &str, attrs: &[(&str, &str)]) -> std::io::Result<()> {
     w.write_event(Event::Start(e))
 }
 
-fn close(w: &mut W, name: &str) -> std::io::Result<()> {
+pub(super) fn close(w: &mut W, name: &str) -> std::io::Result<()> {
     w.write_event(Event::End(BytesEnd::new(name)))
 }
 
@@ -189,57 +189,9 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
         ],
     )?;
 
-    // UnitDefinitions: every unit a variable of this scene uses.
-    open(w, "UnitDefinitions", &[])?;
-    for unit in UNIT_ORDER {
-        if !vars.iter().any(|v| v.unit == unit) {
-            continue;
-        }
-        let exps = base_unit(unit).expect("every unit of the table has SI exponents");
-        open(w, "Unit", &[("name", unit)])?;
-        let strs: Vec<(&str, String)> = ["kg", "m", "s", "rad"]
-            .iter()
-            .zip(exps)
-            .filter(|(_, e)| *e != 0)
-            .map(|(n, e)| (*n, e.to_string()))
-            .collect();
-        let attrs: Vec<(&str, &str)> = strs.iter().map(|(n, e)| (*n, e.as_str())).collect();
-        empty(w, "BaseUnit", &attrs)?;
-        for (u, d, factor) in DISPLAY_UNITS {
-            if u == unit {
-                empty(
-                    w,
-                    "DisplayUnit",
-                    &[("name", d), ("factor", &number(factor))],
-                )?;
-            }
-        }
-        close(w, "Unit")?;
-    }
-    close(w, "UnitDefinitions")?;
-
-    open(w, "LogCategories", &[])?;
-    for c in Category::ALL {
-        let (name, description) = (c.name(), c.description());
-        empty(
-            w,
-            "Category",
-            &[("name", name), ("description", description)],
-        )?;
-    }
-    close(w, "LogCategories")?;
-
-    let (t0, t1, tol, step) = DEFAULT_EXPERIMENT;
-    empty(
-        w,
-        "DefaultExperiment",
-        &[
-            ("startTime", &number(t0)),
-            ("stopTime", &number(t1)),
-            ("tolerance", &number(tol)),
-            ("stepSize", &number(step)),
-        ],
-    )?;
+    write_units(w, &vars)?;
+    write_log_categories(w)?;
+    write_default_experiment(w)?;
 
     open(w, "ModelVariables", &[])?;
     for (i, v) in vars.iter().enumerate() {
@@ -314,4 +266,68 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
     close(w, "ModelStructure")?;
 
     close(w, "fmiModelDescription")
+}
+
+/// `UnitDefinitions`: every unit a variable of the scene uses, with its SI exponents and display
+/// units (the same element in FMI 2.0 and 3.0).
+pub(super) fn write_units(w: &mut W, vars: &[&Variable]) -> std::io::Result<()> {
+    open(w, "UnitDefinitions", &[])?;
+    for unit in UNIT_ORDER {
+        if !vars.iter().any(|v| v.unit == unit) {
+            continue;
+        }
+        let exps = base_unit(unit).expect("every unit of the table has SI exponents");
+        open(w, "Unit", &[("name", unit)])?;
+        let strs: Vec<(&str, String)> = ["kg", "m", "s", "rad"]
+            .iter()
+            .zip(exps)
+            .filter(|(_, e)| *e != 0)
+            .map(|(n, e)| (*n, e.to_string()))
+            .collect();
+        let attrs: Vec<(&str, &str)> = strs.iter().map(|(n, e)| (*n, e.as_str())).collect();
+        empty(w, "BaseUnit", &attrs)?;
+        for (u, d, factor) in DISPLAY_UNITS {
+            if u == unit {
+                empty(
+                    w,
+                    "DisplayUnit",
+                    &[("name", d), ("factor", &number(factor))],
+                )?;
+            }
+        }
+        close(w, "Unit")?;
+    }
+    close(w, "UnitDefinitions")?;
+    Ok(())
+}
+
+/// `LogCategories` (the same element in FMI 2.0 and 3.0).
+pub(super) fn write_log_categories(w: &mut W) -> std::io::Result<()> {
+    open(w, "LogCategories", &[])?;
+    for c in Category::ALL {
+        let (name, description) = (c.name(), c.description());
+        empty(
+            w,
+            "Category",
+            &[("name", name), ("description", description)],
+        )?;
+    }
+    close(w, "LogCategories")?;
+    Ok(())
+}
+
+/// `DefaultExperiment` (the same element in FMI 2.0 and 3.0).
+pub(super) fn write_default_experiment(w: &mut W) -> std::io::Result<()> {
+    let (t0, t1, tol, step) = DEFAULT_EXPERIMENT;
+    empty(
+        w,
+        "DefaultExperiment",
+        &[
+            ("startTime", &number(t0)),
+            ("stopTime", &number(t1)),
+            ("tolerance", &number(tol)),
+            ("stepSize", &number(step)),
+        ],
+    )?;
+    Ok(())
 }

@@ -52,13 +52,18 @@ impl Instance {
         })
     }
 
-    /// Instantiation: reads `<resource location>/scene.toml`, checks the GUID. On failure the
-    /// reason is logged and `None` returned.
+    /// Instantiation: reads `<resources>/scene.toml` and checks the token (the FMI 2.0 GUID,
+    /// FMI 3.0's instantiation token) against the scene's. The C layer has resolved the
+    /// resources folder; `origin` says where it came from and `token_arg` names the token
+    /// argument, for the messages. On failure the reason is logged and `None` returned.
+    #[allow(clippy::too_many_arguments)]
     pub fn instantiate(
         call: Call,
         name: &str,
+        token_arg: &str,
         guid: Option<&str>,
-        resource_location: Option<&str>,
+        dir: &std::path::Path,
+        origin: &str,
         logger: Box<dyn Logger>,
         logging_on: bool,
     ) -> Option<Instance> {
@@ -68,17 +73,6 @@ impl Instance {
                 Category::StatusError.name(),
                 &format!("{}: {msg}", call.name),
             );
-        };
-        let Some(location) = resource_location else {
-            fail("fmuResourceLocation = NULL: must be the file: URI of the FMU's resources folder, e.g. file:///path/to/fmu/resources/".into());
-            return None;
-        };
-        let dir = match super::uri::resource_dir(location) {
-            Ok(d) => d,
-            Err(e) => {
-                fail(e);
-                return None;
-            }
         };
         let path = dir.join("scene.toml");
         let scene = match std::fs::read_to_string(&path) {
@@ -91,7 +85,7 @@ impl Instance {
             },
             Err(e) => {
                 fail(format!(
-                    "cannot read {} (from fmuResourceLocation = \"{location}\"): {e}",
+                    "cannot read {} (from {origin}): {e}",
                     path.display()
                 ));
                 return None;
@@ -102,14 +96,14 @@ impl Instance {
             Some(g) if g == expected => {}
             Some(g) => {
                 fail(format!(
-                    "fmuGUID = \"{g}\" does not match this FMU's GUID \"{expected}\" (model {}): the modelDescription.xml and resources/scene.toml come from different FMUs",
+                    "{token_arg} = \"{g}\" does not match this FMU's GUID \"{expected}\" (model {}): the modelDescription.xml and resources/scene.toml come from different FMUs",
                     scene.model_identifier
                 ));
                 return None;
             }
             None => {
                 fail(format!(
-                    "fmuGUID = NULL: must be the guid of modelDescription.xml, \"{expected}\""
+                    "{token_arg} = NULL: must be the guid of modelDescription.xml, \"{expected}\""
                 ));
                 return None;
             }
@@ -964,12 +958,13 @@ support = ["harmonic", "input"]
         std::fs::write(dir.join("scene.toml"), SCENE).unwrap();
         let scene = Scene::parse(SCENE, "scene.toml").unwrap();
         let log: Log = Default::default();
-        let uri = format!("file://{}", dir.display());
         let inst = Instance::instantiate(
             Fn::Instantiate.call(),
             "unit",
+            "fmuGUID",
             Some(&xml::guid(&scene)),
-            Some(&uri),
+            dir,
+            "a test folder",
             Box::new(Collect(log.clone())),
             false,
         )

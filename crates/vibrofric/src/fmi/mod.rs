@@ -3,6 +3,8 @@
 //! ([`fmi2`]: its C types, its table of allowed states and its `extern "C"` functions, the only
 //! `unsafe` code of the FMU).
 
+#[allow(unsafe_code)]
+mod c_boundary;
 pub mod fmi2;
 pub mod instance;
 pub mod log;

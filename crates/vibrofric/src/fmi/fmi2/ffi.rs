@@ -12,7 +12,7 @@
 //! instance, as the standard requires).
 #![allow(non_snake_case, clippy::missing_safety_doc)]
 
-use std::ffi::{CStr, CString};
+use std::ffi::CString;
 use std::os::raw::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
@@ -20,20 +20,11 @@ use std::ptr;
 use super::types::*;
 use super::{co_simulation, Function};
 use crate::description::log::Category;
-use crate::fmi::{Call, FmuState, Instance, Logger, NoLogger, Status};
-
-const COMPONENT_MAGIC: u64 = 0x7669_6272_6f66_7269; // "vibrofri"
-const STATE_MAGIC: u64 = 0x7669_6272_6f73_7461; // "vibrosta"
-
-struct Component {
-    magic: u64,
-    inst: Instance,
-}
-
-struct StateBox {
-    magic: u64,
-    state: FmuState,
-}
+use crate::fmi::c_boundary::{
+    array, array_mut, component, null, run, state_ref, store, string, Component, StateBox,
+    COMPONENT_MAGIC,
+};
+use crate::fmi::{Call, Instance, Logger, NoLogger, Status};
 
 /// The importer's logger callback, called with the format `"%s"` and the message as its one
 /// argument, so that a `%` in a message is never interpreted.
@@ -62,74 +53,14 @@ impl Logger for CLogger {
     }
 }
 
-fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
-    if let Some(s) = p.downcast_ref::<&str>() {
-        format!("panic: {s}")
-    } else if let Some(s) = p.downcast_ref::<String>() {
-        format!("panic: {s}")
-    } else {
-        "panic".to_string()
-    }
-}
-
-/// The instance behind a component pointer, or `None` for NULL or a foreign pointer.
-unsafe fn component<'a>(c: fmi2Component) -> Option<&'a mut Component> {
-    let comp = (c as *mut Component).as_mut()?;
-    (comp.magic == COMPONENT_MAGIC).then_some(comp)
-}
-
-/// Runs `body` on the instance, catching panics.
+/// Runs `body` on the instance behind `c` (see [`run`]); `fmi2Error` for a NULL or foreign
+/// pointer.
 unsafe fn call(
     c: fmi2Component,
     f: Function,
     body: impl FnOnce(&mut Instance, Call) -> Status,
 ) -> fmi2Status {
-    let Some(comp) = component(c) else {
-        return fmi2Error;
-    };
-    match catch_unwind(AssertUnwindSafe(|| body(&mut comp.inst, f.call()))) {
-        Ok(s) => s as fmi2Status,
-        Err(p) => {
-            let what = panic_text(p.as_ref());
-            let _ = catch_unwind(AssertUnwindSafe(|| {
-                comp.inst.internal_error(f.name(), &what)
-            }));
-            fmi2Error
-        }
-    }
-}
-
-/// An input array: empty when `n` is 0, `None` when NULL with `n` > 0.
-unsafe fn array<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
-    if n == 0 {
-        Some(&[])
-    } else if p.is_null() {
-        None
-    } else {
-        Some(std::slice::from_raw_parts(p, n))
-    }
-}
-
-/// An output array: empty when `n` is 0, `None` when NULL with `n` > 0.
-unsafe fn array_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
-    if n == 0 {
-        Some(&mut [])
-    } else if p.is_null() {
-        None
-    } else {
-        Some(std::slice::from_raw_parts_mut(p, n))
-    }
-}
-
-fn null(inst: &mut Instance, f: &str, arg: &str, n: usize) -> Status {
-    inst.invalid_argument(
-        f,
-        format!("{arg} = NULL with nvr = {n}: must point to {n} elements"),
-    )
-}
-
-unsafe fn string(s: fmi2String) -> Option<String> {
-    (!s.is_null()).then(|| CStr::from_ptr(s).to_string_lossy().into_owned())
+    run(c, f.call(), body).map_or(fmi2Error, |s| s as fmi2Status)
 }
 
 // ---- common functions -----------------------------------------------------------------------
@@ -190,11 +121,24 @@ pub unsafe extern "C" fn fmi2Instantiate(
             ));
             return None;
         }
+        let Some(location) = string(fmuResourceLocation) else {
+            refuse("fmuResourceLocation = NULL: must be the file: URI of the FMU's resources folder, e.g. file:///path/to/fmu/resources/".into());
+            return None;
+        };
+        let dir = match crate::fmi::uri::resource_dir(&location) {
+            Ok(d) => d,
+            Err(e) => {
+                refuse(e);
+                return None;
+            }
+        };
         let inst = Instance::instantiate(
             F.call(),
             &name,
+            "fmuGUID",
             string(fmuGUID).as_deref(),
-            string(fmuResourceLocation).as_deref(),
+            &dir,
+            &format!("fmuResourceLocation = \"{location}\""),
             logger,
             loggingOn != fmi2False,
         )?;
@@ -437,28 +381,6 @@ pub unsafe extern "C" fn fmi2SetString(
 }
 
 // ---- FMU state ------------------------------------------------------------------------------
-
-unsafe fn state_ref<'a>(s: fmi2FMUstate) -> Option<&'a mut StateBox> {
-    let b = (s as *mut StateBox).as_mut()?;
-    (b.magic == STATE_MAGIC).then_some(b)
-}
-
-/// Stores `state` in `*slot`: into the box already there (the standard lets the importer hand a
-/// previous state back for reuse), or a new one.
-unsafe fn store(slot: &mut fmi2FMUstate, state: FmuState) -> bool {
-    if slot.is_null() {
-        *slot = Box::into_raw(Box::new(StateBox {
-            magic: STATE_MAGIC,
-            state,
-        })) as fmi2FMUstate;
-        true
-    } else if let Some(b) = state_ref(*slot) {
-        b.state = state;
-        true
-    } else {
-        false
-    }
-}
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetFMUstate(

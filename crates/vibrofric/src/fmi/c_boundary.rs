@@ -1,0 +1,117 @@
+//! What every FMI version's C layer shares: the boxes behind instance and state pointers (with a
+//! magic number, so that a pointer of the wrong kind is refused rather than used), running a
+//! call on an instance with panics caught, and turning C arrays and strings into Rust ones.
+#![allow(clippy::missing_safety_doc)]
+
+use std::ffi::CStr;
+use std::os::raw::{c_char, c_void};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+use super::{Call, FmuState, Instance, Status};
+
+pub(crate) const COMPONENT_MAGIC: u64 = 0x7669_6272_6f66_7269; // "vibrofri"
+pub(crate) const STATE_MAGIC: u64 = 0x7669_6272_6f73_7461; // "vibrosta"
+
+pub(crate) struct Component {
+    pub magic: u64,
+    pub inst: Instance,
+}
+
+pub(crate) struct StateBox {
+    pub magic: u64,
+    pub state: FmuState,
+}
+
+pub(crate) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        format!("panic: {s}")
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        format!("panic: {s}")
+    } else {
+        "panic".to_string()
+    }
+}
+
+/// The instance behind a component pointer, or `None` for NULL or a foreign pointer.
+pub(crate) unsafe fn component<'a>(c: *mut c_void) -> Option<&'a mut Component> {
+    let comp = (c as *mut Component).as_mut()?;
+    (comp.magic == COMPONENT_MAGIC).then_some(comp)
+}
+
+/// Runs `body` on the instance behind `c` with the call's name and allowed states, catching
+/// panics (a caught panic becomes an error of the instance). `None` for a NULL or foreign
+/// pointer.
+pub(crate) unsafe fn run(
+    c: *mut c_void,
+    call: Call,
+    body: impl FnOnce(&mut Instance, Call) -> Status,
+) -> Option<Status> {
+    let comp = component(c)?;
+    Some(
+        match catch_unwind(AssertUnwindSafe(|| body(&mut comp.inst, call))) {
+            Ok(s) => s,
+            Err(p) => {
+                let what = panic_text(p.as_ref());
+                let _ = catch_unwind(AssertUnwindSafe(|| {
+                    comp.inst.internal_error(call.name, &what)
+                }));
+                Status::Error
+            }
+        },
+    )
+}
+
+/// An input array: empty when `n` is 0, `None` when NULL with `n` > 0.
+pub(crate) unsafe fn array<'a, T>(p: *const T, n: usize) -> Option<&'a [T]> {
+    if n == 0 {
+        Some(&[])
+    } else if p.is_null() {
+        None
+    } else {
+        Some(std::slice::from_raw_parts(p, n))
+    }
+}
+
+/// An output array: empty when `n` is 0, `None` when NULL with `n` > 0.
+pub(crate) unsafe fn array_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]> {
+    if n == 0 {
+        Some(&mut [])
+    } else if p.is_null() {
+        None
+    } else {
+        Some(std::slice::from_raw_parts_mut(p, n))
+    }
+}
+
+pub(crate) fn null(inst: &mut Instance, f: &str, arg: &str, n: usize) -> Status {
+    inst.invalid_argument(
+        f,
+        format!("{arg} = NULL with nvr = {n}: must point to {n} elements"),
+    )
+}
+
+pub(crate) unsafe fn string(s: *const c_char) -> Option<String> {
+    (!s.is_null()).then(|| CStr::from_ptr(s).to_string_lossy().into_owned())
+}
+
+pub(crate) unsafe fn state_ref<'a>(s: *mut c_void) -> Option<&'a mut StateBox> {
+    let b = (s as *mut StateBox).as_mut()?;
+    (b.magic == STATE_MAGIC).then_some(b)
+}
+
+/// Stores `state` in `*slot`: into the box already there (the standard lets the importer hand a
+/// previous state back for reuse), or a new one.
+pub(crate) unsafe fn store(slot: &mut *mut c_void, state: FmuState) -> bool {
+    if slot.is_null() {
+        *slot = Box::into_raw(Box::new(StateBox {
+            magic: STATE_MAGIC,
+            state,
+        })) as *mut c_void;
+        true
+    } else if let Some(b) = state_ref(*slot) {
+        b.state = state;
+        true
+    } else {
+        false
+    }
+}
