@@ -3,7 +3,8 @@
 //!
 //! - `vibrofric` with no arguments exports every `scenes/*.toml` into `dist/` and runs a one-line
 //!   self-check simulation of each.
-//! - `vibrofric export SCENE.toml... --out DIR` writes `DIR/<model_identifier>.fmu`.
+//! - `vibrofric export SCENE.toml... --out DIR` writes `DIR/<model_identifier>.fmu` (FMI 2.0) and
+//!   `DIR/fmi3/<model_identifier>.fmu` (FMI 3.0).
 //! - `vibrofric export --write-descriptions modelDescription/` also refreshes the checked-in
 //!   model descriptions.
 //!
@@ -29,13 +30,22 @@ use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
 use vibrofric::description::variables::Causality;
-use vibrofric::description::{docs, xml, Scene};
+use vibrofric::description::{docs, xml, xml3, Scene};
 use vibrofric::model::{self, InputId};
 use vibrofric_import::Fmu;
 
 /// FMI 2.0 platform directory of this build (`linux64`, `win64`, `darwin64`).
 fn platform() -> &'static str {
     vibrofric_import::platform().0
+}
+
+/// FMI 3.0 platform tuple of this build (`x86_64-linux`, `x86_64-windows`, `aarch64-darwin`).
+fn platform3() -> String {
+    let os = match std::env::consts::OS {
+        "macos" => "darwin",
+        os => os,
+    };
+    format!("{}-{os}", std::env::consts::ARCH)
 }
 
 /// File name of the FMU library cargo builds beside the binary (`libvibrofric.so` on Linux).
@@ -64,7 +74,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Write DIR/<model_identifier>.fmu for each scene.
+    /// Write DIR/<model_identifier>.fmu (FMI 2.0) and DIR/fmi3/<model_identifier>.fmu (FMI 3.0) for each scene.
     Export {
         /// Scene files (default: every scenes/*.toml).
         scenes: Vec<PathBuf>,
@@ -367,10 +377,36 @@ fn export(
     if let Some(d) = descriptions {
         std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
     }
+    let out3 = out.join("fmi3");
+    std::fs::create_dir_all(&out3).map_err(|e| format!("{}: {e}", out3.display()))?;
     for (file, scene) in &scenes {
         let fmu = out.join(format!("{}.fmu", scene.model_identifier));
         let description = xml::model_description(scene);
-        write_fmu(&fmu, scene, &description, &lib, &binary)?;
+        let bin = format!(
+            "binaries/{}/{}.{}",
+            platform(),
+            scene.model_identifier,
+            std::env::consts::DLL_EXTENSION
+        );
+        let doc = docs::index_html_for(scene, &binary);
+        write_fmu(&fmu, scene, &description, &bin, &lib, &doc)?;
+        // The FMI 3.0 edition: the same library and scene, FMI 3.0's description and layout.
+        let fmu3 = out3.join(format!("{}.fmu", scene.model_identifier));
+        let bin3 = format!(
+            "binaries/{}/{}.{}",
+            platform3(),
+            scene.model_identifier,
+            std::env::consts::DLL_EXTENSION
+        );
+        let doc3 = docs::index_html_fmi3(scene, &binary);
+        write_fmu(
+            &fmu3,
+            scene,
+            &xml3::model_description(scene),
+            &bin3,
+            &lib,
+            &doc3,
+        )?;
         let n_vars = scene.variables().count();
         let n_out = scene
             .variables()
@@ -378,9 +414,10 @@ fn export(
             .count();
         let size = std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0);
         println!(
-            "{} -> {} ({n_vars} variables, {n_out} outputs, {:.1} MB, GUID {})",
+            "{} -> {} and {} ({n_vars} variables, {n_out} outputs, {:.1} MB, GUID {})",
             file.display(),
             fmu.display(),
+            fmu3.display(),
             size as f64 / 1e6,
             xml::guid(scene)
         );
@@ -405,8 +442,9 @@ fn write_fmu(
     path: &Path,
     scene: &Scene,
     description: &str,
+    binary_name: &str,
     lib: &[u8],
-    binary: &docs::Binary,
+    doc: &str,
 ) -> Result<(), String> {
     let tmp = path.with_extension("fmu.partial");
     let io = |e: std::io::Error| format!("{}: {e}", tmp.display());
@@ -418,19 +456,9 @@ fn write_fmu(
         .compression_method(CompressionMethod::Deflated)
         .last_modified_time(DateTime::default())
         .unix_permissions(0o644);
-    let id = &scene.model_identifier;
-    let doc = docs::index_html_for(scene, binary);
     let entries: [(String, &[u8], u32); 4] = [
         ("modelDescription.xml".into(), description.as_bytes(), 0o644),
-        (
-            format!(
-                "binaries/{}/{id}.{}",
-                platform(),
-                std::env::consts::DLL_EXTENSION
-            ),
-            lib,
-            0o755,
-        ),
+        (binary_name.into(), lib, 0o755),
         ("documentation/index.html".into(), doc.as_bytes(), 0o644),
         (
             "resources/scene.toml".into(),

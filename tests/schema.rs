@@ -2,6 +2,7 @@
 //! as Rust types, a parser that shares nothing with vibrofric's writer) and compared with the
 //! variable table: every variable with its value reference, causality, variability, `initial`,
 //! start value and description, and `ModelStructure` with the dependencies the table declares.
+//! The FMI 3.0 descriptions likewise, with the schema's FMI 3.0 types.
 
 use std::path::PathBuf;
 use std::str::FromStr;
@@ -156,6 +157,84 @@ fn model_structure_lists_the_declared_dependencies() {
                     dep.name
                 );
             }
+        }
+    }
+}
+
+/// The FMI 3.0 description of every standard scene, generated and read back with `fmi-schema`'s
+/// FMI 3.0 types: the same rows as FMI 2.0 (plus the independent `time`), the instantiation
+/// token is the FMI 2.0 GUID, units come from declared types, and `ModelStructure` lists the
+/// table's dependencies by value reference.
+#[test]
+fn fmi3_descriptions_are_the_table_rows_too() {
+    use fmi_schema::fmi3::{
+        AbstractVariableTrait, Causality as C3, Fmi3ModelDescription, InitializableVariableTrait,
+        VariableDependency,
+    };
+    use vibrofric::description::{xml, xml3};
+    for (scene, _) in described_scenes() {
+        let c = &scene.config;
+        let text = xml3::model_description(&scene);
+        let md: Fmi3ModelDescription = fmi_schema::deserialize(&text)
+            .unwrap_or_else(|e| panic!("{}: {e:?}", scene.model_identifier));
+        let id = &scene.model_identifier;
+        assert_eq!(md.fmi_version, "3.0");
+        assert_eq!(md.instantiation_token, xml::guid(&scene));
+        assert_eq!(md.co_simulation.as_ref().unwrap().model_identifier, *id);
+        let vars = md.model_variables.float64();
+        assert_eq!(vars.len(), scene.variables().count() + 1, "{id}");
+        assert_eq!(
+            (vars[0].name(), vars[0].causality()),
+            ("time", C3::Independent)
+        );
+        for (v, row) in vars[1..].iter().zip(scene.variables()) {
+            assert_eq!(v.name(), row.name(), "{id}");
+            assert_eq!(v.value_reference(), row.vr, "{id}");
+            let causality = match row.causality(c) {
+                Causality::Parameter => C3::Parameter,
+                Causality::Input => C3::Input,
+                Causality::Output => C3::Output,
+            };
+            assert_eq!(v.causality(), causality, "{id} {}", row.name());
+            let start = v.start().and_then(|s| s.first().copied());
+            let expected = match row.initial(c) {
+                Some(Initial::Calculated) => None,
+                _ => scene.start_of(row),
+            };
+            assert_eq!(start, expected, "{id} {}", row.name());
+            let unit = v.declared_type.as_deref().unwrap();
+            assert!(unit.starts_with(row.unit), "{id} {}: {unit}", row.name());
+        }
+        for u in &md.model_structure.unknowns {
+            let (unknown, declared): (_, Vec<u32>) = match u {
+                VariableDependency::Output(u) => {
+                    let row = scene
+                        .variables()
+                        .find(|r| r.vr == u.value_reference)
+                        .unwrap();
+                    (
+                        u,
+                        row.input_dependencies(c).iter().map(|i| i.vr()).collect(),
+                    )
+                }
+                VariableDependency::InitialUnknown(u) => {
+                    let row = scene
+                        .variables()
+                        .find(|r| r.vr == u.value_reference)
+                        .unwrap();
+                    (
+                        u,
+                        row.initial_dependencies(c).iter().map(|d| d.vr()).collect(),
+                    )
+                }
+                other => panic!("{id}: unexpected {other:?}"),
+            };
+            let mut written: Vec<u32> =
+                unknown.dependencies.as_ref().map_or(vec![], |d| d.to_vec());
+            let mut declared = declared;
+            written.sort_unstable();
+            declared.sort_unstable();
+            assert_eq!(written, declared, "{id} vr {}", unknown.value_reference);
         }
     }
 }

@@ -14,6 +14,7 @@ A partner that is not installed fails its tests unless VIBROFRIC_SKIP_PARTNERS n
 """
 
 import os
+import pathlib
 import shutil
 import tomllib
 
@@ -93,6 +94,20 @@ def test_fmi_sim_agrees_with_fmpy(ident, tmp_path):
     times, values, _ = partners.run_fmi_sim(fmu_path(ident), H, N, tmp_path)
     # fmi-sim computes t_k = k·h: the nominal grid itself.
     check("fmi-sim", ident, times, values, partners.multiplied_grid(H, N))
+
+
+@pytest.mark.parametrize("ident", IDENTIFIERS)
+def test_fmi_sim_runs_the_fmi3_edition_as_the_fmi2_one(ident, tmp_path):
+    """fmi-sim imports FMI 3.0 Co-Simulation too: the FMI 3.0 edition of every FMU gives it the
+    same numbers as the FMI 2.0 one, bit for bit, on the same grid."""
+    need("fmi-sim")
+    fmu3 = pathlib.Path(fmu_path(ident)).parent / "fmi3" / f"{ident}.fmu"
+    assert fmu3.exists(), fmu3
+    t2, v2, _ = partners.run_fmi_sim(fmu_path(ident), H, N, tmp_path)
+    t3, v3, _ = partners.run_fmi_sim(str(fmu3), H, N, tmp_path)
+    assert np.array_equal(t2, t3)
+    for name in v2:
+        assert np.array_equal(v2[name], v3[name]), (ident, name)
 
 
 def test_ecos_errors_are_seen_through_the_log_with_its_full_path_instance_name(capfd):

@@ -6,6 +6,7 @@
 //! - variables are `Float64` elements with their type attributes inline;
 //! - an independent variable `time` (value reference 0) is declared;
 //! - `ModelStructure` names variables by value reference, not by index;
+//! - FMI 3.0 Co-Simulation has no input derivatives: inputs are held over a step;
 //! - the `instantiationToken` is the FMI 2.0 GUID of the same scene: one scene, one token, and
 //!   the instance checks the same string whichever version instantiates it.
 //!
@@ -40,6 +41,15 @@ pub fn model_description(scene: &Scene) -> String {
     String::from_utf8(bytes).expect("quick-xml writes UTF-8 from UTF-8 input")
 }
 
+/// The name of the `Float64Type` of a unit and display unit: the unit, with the display unit in
+/// parentheses.
+fn type_name(unit: &str, display: Option<&str>) -> String {
+    match display {
+        Some(d) => format!("{unit} ({d})"),
+        None => unit.to_string(),
+    }
+}
+
 fn joined(vrs: &[u32]) -> String {
     let mut v = vrs.to_vec();
     v.sort_unstable();
@@ -66,7 +76,6 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
             ("variableNamingConvention", "flat"),
         ],
     )?;
-    let interpolate = vars.iter().any(|v| v.causality(c) == Causality::Input);
     empty(
         w,
         "CoSimulation",
@@ -86,13 +95,29 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
             ("canReturnEarlyAfterIntermediateUpdate", "false"),
             ("hasEventMode", "false"),
             ("providesEvaluateDiscreteStates", "false"),
-            (
-                "canInterpolateInputs",
-                if interpolate { "true" } else { "false" },
-            ),
         ],
     )?;
     write_units(w, &vars)?;
+    // Units as types: a Float64Type per (unit, display unit) the variables use, which they
+    // name as their declaredType (FMI 3.0 allows the unit on the variable too, but importers
+    // built on rust-fmi's schema, such as fmi-sim, read it only from a type).
+    let mut types: Vec<(&str, Option<&str>)> = vec![("s", None)];
+    for v in &vars {
+        let t = (v.unit, v.display_unit);
+        if !types.contains(&t) {
+            types.push(t);
+        }
+    }
+    open(w, "TypeDefinitions", &[])?;
+    for (unit, display) in &types {
+        let name = type_name(unit, *display);
+        let mut attrs = vec![("name", name.as_str()), ("unit", *unit)];
+        if let Some(d) = display {
+            attrs.push(("displayUnit", d));
+        }
+        empty(w, "Float64Type", &attrs)?;
+    }
+    close(w, "TypeDefinitions")?;
     write_log_categories(w)?;
     write_default_experiment(w)?;
 
@@ -106,7 +131,7 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
             ("description", "Simulation time"),
             ("causality", "independent"),
             ("variability", "continuous"),
-            ("unit", "s"),
+            ("declaredType", "s"),
         ],
     )?;
     for v in &vars {
@@ -122,10 +147,7 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
         if let Some(init) = initial {
             attrs.push(("initial", init.as_str().into()));
         }
-        attrs.push(("unit", v.unit.into()));
-        if let Some(d) = v.display_unit {
-            attrs.push(("displayUnit", d.into()));
-        }
+        attrs.push(("declaredType", type_name(v.unit, v.display_unit)));
         if v.causality(c) != Causality::Output {
             for (n, x) in [("min", v.min(c)), ("max", v.max(c))] {
                 if let Some(x) = x {

@@ -731,6 +731,14 @@ impl Instance {
         )
     }
 
+    /// A function of an interface or mode this FMU does not offer: an error saying why.
+    pub fn unsupported(&mut self, call: Call, why: &str) -> Status {
+        if let Err(s) = self.allow(call) {
+            return s;
+        }
+        self.fail(call.name, format!("not supported: {why}"))
+    }
+
     /// `fmi2GetInteger`, `fmi2SetInteger`, `fmi2GetBoolean`, ...: this FMU has only Real
     /// variables, so any value reference is an error and an empty call does nothing.
     pub fn no_variables_of_type(&mut self, call: Call, type_name: &str, vrs: &[u32]) -> Status {

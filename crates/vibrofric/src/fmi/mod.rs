@@ -6,6 +6,7 @@
 #[allow(unsafe_code)]
 mod c_boundary;
 pub mod fmi2;
+pub mod fmi3;
 pub mod instance;
 pub mod log;
 pub mod saved;

@@ -1,0 +1,798 @@
+//! The exported FMI 3.0 functions: every function of the standard's C interface, so that any
+//! importer binds the library. Co-Simulation without event mode works as in FMI 2.0, on the same
+//! instance; `Float64` is the only variable type; the functions of Model Exchange, Scheduled
+//! Execution, clocks, event mode and configuration mode answer with an error naming what this
+//! FMU offers instead.
+//!
+//! Thin, like the FMI 2.0 layer: pointer and length checks, then the instance. Shared with it:
+//! `fmi/c_boundary.rs` (boxes with magic numbers, panics caught, C arrays and strings).
+#![allow(non_snake_case, clippy::missing_safety_doc, clippy::too_many_arguments)]
+
+use std::ffi::CString;
+use std::os::raw::c_char;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+use std::ptr;
+
+use super::types::*;
+use super::Function;
+use crate::description::log::Category;
+use crate::fmi::c_boundary::{
+    array, array_mut, component, null, run, state_ref, store, string, Component, StateBox,
+    COMPONENT_MAGIC,
+};
+use crate::fmi::{Call, Instance, Logger, NoLogger, Status};
+
+/// The importer's `fmi3LogMessageCallback`.
+struct CLogger {
+    callback: unsafe extern "C" fn(fmi3InstanceEnvironment, fmi3Status, fmi3String, fmi3String),
+    env: fmi3InstanceEnvironment,
+}
+
+impl Logger for CLogger {
+    fn log(&self, status: Status, category: &str, message: &str) {
+        let category = CString::new(category).unwrap_or_default();
+        let message = CString::new(message.replace('\0', "\\0")).unwrap_or_default();
+        // SAFETY: the callback takes these four arguments; the strings live until it returns.
+        unsafe {
+            (self.callback)(
+                self.env,
+                status as fmi3Status,
+                category.as_ptr(),
+                message.as_ptr(),
+            )
+        }
+    }
+}
+
+/// Runs `body` on the instance (see [`run`]); `fmi3Error` for a NULL or foreign pointer.
+unsafe fn call(
+    c: fmi3Instance,
+    f: Function,
+    body: impl FnOnce(&mut Instance, Call) -> Status,
+) -> fmi3Status {
+    run(c, f.call(), body).map_or(fmi3Error, |s| s as fmi3Status)
+}
+
+/// The error of a function this FMU does not offer.
+unsafe fn unsupported(c: fmi3Instance, name: &'static str, why: &str) -> fmi3Status {
+    call(c, Function::Unsupported(name), |i, call| {
+        i.unsupported(call, why)
+    })
+}
+
+const NO_ME: &str = "this FMU implements Co-Simulation only (fmi3InstantiateCoSimulation)";
+const NO_CLOCKS: &str = "this FMU has no clocks";
+const NO_EVENTS: &str = "this FMU has no event mode (hasEventMode = false)";
+
+// ---- common functions -----------------------------------------------------------------------
+
+#[no_mangle]
+pub extern "C" fn fmi3GetVersion() -> *const c_char {
+    VERSION.as_ptr()
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetDebugLogging(
+    instance: fmi3Instance,
+    loggingOn: fmi3Boolean,
+    nCategories: usize,
+    categories: *const fmi3String,
+) -> fmi3Status {
+    const F: Function = Function::SetDebugLogging;
+    call(instance, F, |inst, call| {
+        let Some(cats) = array(categories, nCategories) else {
+            return inst.invalid_argument(
+                F.name(),
+                format!("categories = NULL with nCategories = {nCategories}"),
+            );
+        };
+        let mut names = Vec::with_capacity(cats.len());
+        for (k, &p) in cats.iter().enumerate() {
+            match string(p) {
+                Some(s) => names.push(s),
+                None => return inst.invalid_argument(F.name(), format!("categories[{k}] = NULL")),
+            }
+        }
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        inst.set_debug_logging(call, loggingOn, &names)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
+    instanceName: fmi3String,
+    instantiationToken: fmi3String,
+    resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    loggingOn: fmi3Boolean,
+    eventModeUsed: fmi3Boolean,
+    _earlyReturnAllowed: fmi3Boolean,
+    _requiredIntermediateVariables: *const fmi3ValueReference,
+    _nRequiredIntermediateVariables: usize,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+    _intermediateUpdate: fmi3IntermediateUpdateCallback,
+) -> fmi3Instance {
+    const F: Function = Function::InstantiateCoSimulation;
+    let make_logger = || -> Box<dyn Logger> {
+        match logMessage {
+            Some(callback) => Box::new(CLogger {
+                callback,
+                env: instanceEnvironment,
+            }),
+            None => Box::new(NoLogger),
+        }
+    };
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let logger = make_logger();
+        let refuse = |msg: String| {
+            let error = Category::StatusError.name();
+            logger.log(Status::Error, error, &format!("{}: {msg}", F.name()));
+        };
+        let Some(name) = string(instanceName) else {
+            refuse("instanceName = NULL: must be a string".into());
+            return None;
+        };
+        if let Some(why) = Instance::refuse_name(&name) {
+            refuse(why);
+            return None;
+        }
+        if eventModeUsed {
+            refuse(format!("eventModeUsed = true: {NO_EVENTS}"));
+            return None;
+        }
+        let Some(path) = string(resourcePath) else {
+            refuse("resourcePath = NULL: must be the path of the FMU's resources folder".into());
+            return None;
+        };
+        let inst = Instance::instantiate(
+            F.call(),
+            &name,
+            "instantiationToken",
+            string(instantiationToken).as_deref(),
+            &PathBuf::from(&path),
+            &format!("resourcePath = \"{path}\""),
+            logger,
+            loggingOn,
+        )?;
+        Some(Box::into_raw(Box::new(Component {
+            magic: COMPONENT_MAGIC,
+            inst,
+        })))
+    }));
+    match result {
+        Ok(Some(p)) => p as fmi3Instance,
+        Ok(None) => ptr::null_mut(),
+        Err(_) => {
+            make_logger().log(
+                Status::Error,
+                Category::StatusError.name(),
+                &format!(
+                    "{}: internal error (caught); no instance was created",
+                    F.name()
+                ),
+            );
+            ptr::null_mut()
+        }
+    }
+}
+
+/// The instantiation functions of the interfaces this FMU does not offer: no instance, and the
+/// reason through the logger.
+unsafe fn refuse_instantiation(
+    f: Function,
+    env: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+) -> fmi3Instance {
+    if let Some(callback) = logMessage {
+        let logger = CLogger { callback, env };
+        let _ = catch_unwind(AssertUnwindSafe(|| {
+            logger.log(
+                Status::Error,
+                Category::StatusError.name(),
+                &format!("{}: not supported: {NO_ME}", f.name()),
+            )
+        }));
+    }
+    ptr::null_mut()
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3InstantiateModelExchange(
+    _instanceName: fmi3String,
+    _instantiationToken: fmi3String,
+    _resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    _loggingOn: fmi3Boolean,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+) -> fmi3Instance {
+    refuse_instantiation(
+        Function::InstantiateModelExchange,
+        instanceEnvironment,
+        logMessage,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
+    _instanceName: fmi3String,
+    _instantiationToken: fmi3String,
+    _resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    _loggingOn: fmi3Boolean,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+    _clockUpdate: fmi3ClockUpdateCallback,
+    _lockPreemption: fmi3LockPreemptionCallback,
+    _unlockPreemption: fmi3UnlockPreemptionCallback,
+) -> fmi3Instance {
+    refuse_instantiation(
+        Function::InstantiateScheduledExecution,
+        instanceEnvironment,
+        logMessage,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3FreeInstance(instance: fmi3Instance) {
+    if let Some(comp) = component(instance) {
+        let _ = catch_unwind(AssertUnwindSafe(|| {
+            comp.inst.free(Function::FreeInstance.call())
+        }));
+        comp.magic = 0;
+        let b = Box::from_raw(comp as *mut Component);
+        let _ = catch_unwind(AssertUnwindSafe(move || drop(b)));
+    }
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterInitializationMode(
+    instance: fmi3Instance,
+    toleranceDefined: fmi3Boolean,
+    tolerance: fmi3Float64,
+    startTime: fmi3Float64,
+    stopTimeDefined: fmi3Boolean,
+    stopTime: fmi3Float64,
+) -> fmi3Status {
+    call(instance, Function::EnterInitializationMode, |inst, call| {
+        let experiment = inst.setup_experiment(
+            call,
+            toleranceDefined.then_some(tolerance),
+            startTime,
+            stopTimeDefined.then_some(stopTime),
+        );
+        if experiment > Status::Warning {
+            return experiment;
+        }
+        inst.enter_initialization_mode(call).max(experiment)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3ExitInitializationMode(instance: fmi3Instance) -> fmi3Status {
+    call(instance, Function::ExitInitializationMode, |i, call| {
+        i.exit_initialization_mode(call)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Status {
+    unsupported(instance, "fmi3EnterEventMode", NO_EVENTS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3Terminate(instance: fmi3Instance) -> fmi3Status {
+    call(instance, Function::Terminate, |i, call| i.terminate(call))
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
+    call(instance, Function::Reset, |i, call| i.reset(call))
+}
+
+// ---- getters and setters --------------------------------------------------------------------
+
+/// Checks that a scalar call's `nValues` equals `nValueReferences` (every variable is a
+/// scalar).
+fn scalar_count(inst: &mut Instance, f: Function, nvr: usize, n_values: usize) -> Option<Status> {
+    (nvr != n_values).then(|| {
+        inst.invalid_argument(
+            f.name(),
+            format!("nValues = {n_values} with nValueReferences = {nvr}: every variable of this FMU is a scalar, so they must be equal"),
+        )
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetFloat64(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    values: *mut fmi3Float64,
+    nValues: usize,
+) -> fmi3Status {
+    const F: Function = Function::GetFloat64;
+    call(instance, F, |inst, call| {
+        if let Some(s) = scalar_count(inst, F, nValueReferences, nValues) {
+            return s;
+        }
+        let Some(vrs) = array(valueReferences, nValueReferences) else {
+            return null(inst, F.name(), "valueReferences", nValueReferences);
+        };
+        let Some(values) = array_mut(values, nValues) else {
+            return null(inst, F.name(), "values", nValues);
+        };
+        inst.get_real(call, vrs, values)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetFloat64(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    values: *const fmi3Float64,
+    nValues: usize,
+) -> fmi3Status {
+    const F: Function = Function::SetFloat64;
+    call(instance, F, |inst, call| {
+        if let Some(s) = scalar_count(inst, F, nValueReferences, nValues) {
+            return s;
+        }
+        let Some(vrs) = array(valueReferences, nValueReferences) else {
+            return null(inst, F.name(), "valueReferences", nValueReferences);
+        };
+        let Some(values) = array(values, nValues) else {
+            return null(inst, F.name(), "values", nValues);
+        };
+        inst.set_real(call, vrs, values)
+    })
+}
+
+/// The getters and setters of the types this FMU has no variables of: nothing to do for no
+/// value reference, an error naming the variable's type otherwise.
+unsafe fn no_variables(
+    instance: fmi3Instance,
+    f: Function,
+    type_name: &str,
+    vrs: *const fmi3ValueReference,
+    nvr: usize,
+) -> fmi3Status {
+    call(instance, f, |inst, call| {
+        let Some(vrs) = array(vrs, nvr) else {
+            return null(inst, f.name(), "valueReferences", nvr);
+        };
+        inst.no_variables_of_type(call, type_name, vrs)
+    })
+}
+
+macro_rules! other_types {
+    ($($get:ident, $set:ident, $t:ty, $name:literal;)*) => {$(
+        #[no_mangle]
+        pub unsafe extern "C" fn $get(
+            instance: fmi3Instance,
+            valueReferences: *const fmi3ValueReference,
+            nValueReferences: usize,
+            _values: *mut $t,
+            _nValues: usize,
+        ) -> fmi3Status {
+            let f = Function::GetOther(stringify!($get));
+            no_variables(instance, f, $name, valueReferences, nValueReferences)
+        }
+
+        #[no_mangle]
+        pub unsafe extern "C" fn $set(
+            instance: fmi3Instance,
+            valueReferences: *const fmi3ValueReference,
+            nValueReferences: usize,
+            _values: *const $t,
+            _nValues: usize,
+        ) -> fmi3Status {
+            let f = Function::SetOther(stringify!($set));
+            no_variables(instance, f, $name, valueReferences, nValueReferences)
+        }
+    )*};
+}
+
+other_types! {
+    fmi3GetFloat32, fmi3SetFloat32, fmi3Float32, "Float32";
+    fmi3GetInt8, fmi3SetInt8, fmi3Int8, "Int8";
+    fmi3GetUInt8, fmi3SetUInt8, fmi3UInt8, "UInt8";
+    fmi3GetInt16, fmi3SetInt16, fmi3Int16, "Int16";
+    fmi3GetUInt16, fmi3SetUInt16, fmi3UInt16, "UInt16";
+    fmi3GetInt32, fmi3SetInt32, fmi3Int32, "Int32";
+    fmi3GetUInt32, fmi3SetUInt32, fmi3UInt32, "UInt32";
+    fmi3GetInt64, fmi3SetInt64, fmi3Int64, "Int64";
+    fmi3GetUInt64, fmi3SetUInt64, fmi3UInt64, "UInt64";
+    fmi3GetBoolean, fmi3SetBoolean, fmi3Boolean, "Boolean";
+    fmi3GetString, fmi3SetString, fmi3String, "String";
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetBinary(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    _valueSizes: *mut usize,
+    _values: *mut fmi3Binary,
+    _nValues: usize,
+) -> fmi3Status {
+    let f = Function::GetOther("fmi3GetBinary");
+    no_variables(instance, f, "Binary", valueReferences, nValueReferences)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetBinary(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    _valueSizes: *const usize,
+    _values: *const fmi3Binary,
+    _nValues: usize,
+) -> fmi3Status {
+    let f = Function::SetOther("fmi3SetBinary");
+    no_variables(instance, f, "Binary", valueReferences, nValueReferences)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetClock(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: usize,
+    _values: *mut fmi3Clock,
+) -> fmi3Status {
+    unsupported(instance, "fmi3GetClock", NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetClock(
+    instance: fmi3Instance,
+    _valueReferences: *const fmi3ValueReference,
+    _nValueReferences: usize,
+    _values: *const fmi3Clock,
+) -> fmi3Status {
+    unsupported(instance, "fmi3SetClock", NO_CLOCKS)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetNumberOfVariableDependencies(
+    instance: fmi3Instance,
+    _valueReference: fmi3ValueReference,
+    _nDependencies: *mut usize,
+) -> fmi3Status {
+    unsupported(
+        instance,
+        "fmi3GetNumberOfVariableDependencies",
+        "the dependencies are in modelDescription.xml (ModelStructure)",
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetVariableDependencies(
+    instance: fmi3Instance,
+    _dependent: fmi3ValueReference,
+    _elementIndicesOfDependent: *mut usize,
+    _independents: *mut fmi3ValueReference,
+    _elementIndicesOfIndependents: *mut usize,
+    _dependencyKinds: *mut fmi3DependencyKind,
+    _nDependencies: usize,
+) -> fmi3Status {
+    unsupported(
+        instance,
+        "fmi3GetVariableDependencies",
+        "the dependencies are in modelDescription.xml (ModelStructure)",
+    )
+}
+
+// ---- FMU state ------------------------------------------------------------------------------
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetFMUState(
+    instance: fmi3Instance,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    const F: Function = Function::GetFMUState;
+    call(instance, F, |inst, call| {
+        let Some(slot) = FMUState.as_mut() else {
+            return inst
+                .invalid_argument(F.name(), "FMUState = NULL: must point to an fmi3FMUState");
+        };
+        let state = match inst.get_fmu_state(call) {
+            Ok(s) => s,
+            Err(s) => return s,
+        };
+        if store(slot, state) {
+            Status::Ok
+        } else {
+            inst.invalid_argument(
+                F.name(),
+                "*FMUState is neither NULL nor a state returned by this FMU",
+            )
+        }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetFMUState(
+    instance: fmi3Instance,
+    FMUState: fmi3FMUState,
+) -> fmi3Status {
+    const F: Function = Function::SetFMUState;
+    call(instance, F, |inst, call| match state_ref(FMUState) {
+        Some(b) => inst.set_fmu_state(call, &b.state),
+        None => inst.invalid_argument(
+            F.name(),
+            "FMUState is NULL or not a state returned by fmi3GetFMUState/fmi3DeserializeFMUState",
+        ),
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3FreeFMUState(
+    instance: fmi3Instance,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    const F: Function = Function::FreeFMUState;
+    call(instance, F, |inst, call| {
+        let Some(slot) = FMUState.as_mut() else {
+            return inst
+                .invalid_argument(F.name(), "FMUState = NULL: must point to an fmi3FMUState");
+        };
+        let s = inst.allow_call(call);
+        if s != Status::Ok {
+            return s;
+        }
+        if slot.is_null() {
+            return Status::Ok;
+        }
+        match state_ref(*slot) {
+            Some(b) => {
+                b.magic = 0;
+                drop(Box::from_raw(b as *mut StateBox));
+                *slot = ptr::null_mut();
+                Status::Ok
+            }
+            None => {
+                inst.invalid_argument(F.name(), "*FMUState is not a state returned by this FMU")
+            }
+        }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
+    instance: fmi3Instance,
+    FMUState: fmi3FMUState,
+    size: *mut usize,
+) -> fmi3Status {
+    const F: Function = Function::SerializedFMUStateSize;
+    call(instance, F, |inst, call| {
+        let Some(b) = state_ref(FMUState) else {
+            return inst.invalid_argument(F.name(), "FMUState is NULL or not a state of this FMU");
+        };
+        let Some(size) = size.as_mut() else {
+            return inst.invalid_argument(F.name(), "size = NULL");
+        };
+        match inst.serialize_fmu_state(call, &b.state) {
+            Ok(bytes) => {
+                *size = bytes.len();
+                Status::Ok
+            }
+            Err(s) => s,
+        }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializeFMUState(
+    instance: fmi3Instance,
+    FMUState: fmi3FMUState,
+    serializedState: *mut fmi3Byte,
+    size: usize,
+) -> fmi3Status {
+    const F: Function = Function::SerializeFMUState;
+    call(instance, F, |inst, call| {
+        let Some(b) = state_ref(FMUState) else {
+            return inst.invalid_argument(F.name(), "FMUState is NULL or not a state of this FMU");
+        };
+        let bytes = match inst.serialize_fmu_state(call, &b.state) {
+            Ok(bytes) => bytes,
+            Err(s) => return s,
+        };
+        if size < bytes.len() {
+            return inst.invalid_argument(
+                F.name(),
+                format!(
+                    "size = {size}: the state needs {} bytes (fmi3SerializedFMUStateSize)",
+                    bytes.len()
+                ),
+            );
+        }
+        let Some(out) = array_mut(serializedState, size) else {
+            return inst.invalid_argument(
+                F.name(),
+                format!("serializedState = NULL with size = {size}"),
+            );
+        };
+        out[..bytes.len()].copy_from_slice(&bytes);
+        out[bytes.len()..].fill(0);
+        Status::Ok
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3DeserializeFMUState(
+    instance: fmi3Instance,
+    serializedState: *const fmi3Byte,
+    size: usize,
+    FMUState: *mut fmi3FMUState,
+) -> fmi3Status {
+    const F: Function = Function::DeserializeFMUState;
+    call(instance, F, |inst, call| {
+        let Some(bytes) = array(serializedState, size) else {
+            return inst.invalid_argument(
+                F.name(),
+                format!("serializedState = NULL with size = {size}"),
+            );
+        };
+        let Some(slot) = FMUState.as_mut() else {
+            return inst
+                .invalid_argument(F.name(), "FMUState = NULL: must point to an fmi3FMUState");
+        };
+        let state = match inst.deserialize_fmu_state(call, bytes) {
+            Ok(s) => s,
+            Err(s) => return s,
+        };
+        if store(slot, state) {
+            Status::Ok
+        } else {
+            inst.invalid_argument(
+                F.name(),
+                "*FMUState is neither NULL nor a state returned by this FMU",
+            )
+        }
+    })
+}
+
+// ---- derivatives ----------------------------------------------------------------------------
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
+    instance: fmi3Instance,
+    _unknowns: *const fmi3ValueReference,
+    _nUnknowns: usize,
+    _knowns: *const fmi3ValueReference,
+    _nKnowns: usize,
+    _seed: *const fmi3Float64,
+    _nSeed: usize,
+    _sensitivity: *mut fmi3Float64,
+    _nSensitivity: usize,
+) -> fmi3Status {
+    unsupported(
+        instance,
+        "fmi3GetDirectionalDerivative",
+        "this FMU provides no directional derivatives (providesDirectionalDerivatives = false)",
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetAdjointDerivative(
+    instance: fmi3Instance,
+    _unknowns: *const fmi3ValueReference,
+    _nUnknowns: usize,
+    _knowns: *const fmi3ValueReference,
+    _nKnowns: usize,
+    _seed: *const fmi3Float64,
+    _nSeed: usize,
+    _sensitivity: *mut fmi3Float64,
+    _nSensitivity: usize,
+) -> fmi3Status {
+    unsupported(
+        instance,
+        "fmi3GetAdjointDerivative",
+        "this FMU provides no adjoint derivatives (providesAdjointDerivatives = false)",
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetOutputDerivatives(
+    instance: fmi3Instance,
+    valueReferences: *const fmi3ValueReference,
+    nValueReferences: usize,
+    orders: *const fmi3Int32,
+    values: *mut fmi3Float64,
+    nValues: usize,
+) -> fmi3Status {
+    const F: Function = Function::GetOutputDerivatives;
+    call(instance, F, |inst, call| {
+        if let Some(s) = scalar_count(inst, F, nValueReferences, nValues) {
+            return s;
+        }
+        let Some(vrs) = array(valueReferences, nValueReferences) else {
+            return null(inst, F.name(), "valueReferences", nValueReferences);
+        };
+        let Some(orders) = array(orders, nValueReferences) else {
+            return null(inst, F.name(), "orders", nValueReferences);
+        };
+        let Some(values) = array_mut(values, nValues) else {
+            return null(inst, F.name(), "values", nValues);
+        };
+        inst.get_real_output_derivatives(call, vrs, orders, values)
+    })
+}
+
+// ---- configuration, clocks and event mode: not offered ---------------------------------------
+
+macro_rules! not_offered {
+    ($($name:ident ( $($arg:ident : $t:ty),* ) => $why:expr;)*) => {$(
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(instance: fmi3Instance, $($arg: $t),*) -> fmi3Status {
+            $(let _ = $arg;)*
+            unsupported(instance, stringify!($name), $why)
+        }
+    )*};
+}
+
+not_offered! {
+    fmi3EnterConfigurationMode() => "this FMU has no structural parameters";
+    fmi3ExitConfigurationMode() => "this FMU has no structural parameters";
+    fmi3GetIntervalDecimal(_vr: *const fmi3ValueReference, _n: usize, _intervals: *mut fmi3Float64, _qualifiers: *mut fmi3IntervalQualifier) => NO_CLOCKS;
+    fmi3GetIntervalFraction(_vr: *const fmi3ValueReference, _n: usize, _counters: *mut fmi3UInt64, _resolutions: *mut fmi3UInt64, _qualifiers: *mut fmi3IntervalQualifier) => NO_CLOCKS;
+    fmi3GetShiftDecimal(_vr: *const fmi3ValueReference, _n: usize, _shifts: *mut fmi3Float64) => NO_CLOCKS;
+    fmi3GetShiftFraction(_vr: *const fmi3ValueReference, _n: usize, _counters: *mut fmi3UInt64, _resolutions: *mut fmi3UInt64) => NO_CLOCKS;
+    fmi3SetIntervalDecimal(_vr: *const fmi3ValueReference, _n: usize, _intervals: *const fmi3Float64) => NO_CLOCKS;
+    fmi3SetIntervalFraction(_vr: *const fmi3ValueReference, _n: usize, _counters: *const fmi3UInt64, _resolutions: *const fmi3UInt64) => NO_CLOCKS;
+    fmi3SetShiftDecimal(_vr: *const fmi3ValueReference, _n: usize, _shifts: *const fmi3Float64) => NO_CLOCKS;
+    fmi3SetShiftFraction(_vr: *const fmi3ValueReference, _n: usize, _counters: *const fmi3UInt64, _resolutions: *const fmi3UInt64) => NO_CLOCKS;
+    fmi3EvaluateDiscreteStates() => NO_EVENTS;
+    fmi3UpdateDiscreteStates(_a: *mut fmi3Boolean, _b: *mut fmi3Boolean, _c: *mut fmi3Boolean, _d: *mut fmi3Boolean, _e: *mut fmi3Boolean, _f: *mut fmi3Float64) => NO_EVENTS;
+    fmi3EnterContinuousTimeMode() => NO_ME;
+    fmi3CompletedIntegratorStep(_no_set: fmi3Boolean, _enter: *mut fmi3Boolean, _terminate: *mut fmi3Boolean) => NO_ME;
+    fmi3SetTime(_time: fmi3Float64) => NO_ME;
+    fmi3SetContinuousStates(_x: *const fmi3Float64, _n: usize) => NO_ME;
+    fmi3GetContinuousStateDerivatives(_dx: *mut fmi3Float64, _n: usize) => NO_ME;
+    fmi3GetEventIndicators(_z: *mut fmi3Float64, _n: usize) => NO_ME;
+    fmi3GetContinuousStates(_x: *mut fmi3Float64, _n: usize) => NO_ME;
+    fmi3GetNominalsOfContinuousStates(_x: *mut fmi3Float64, _n: usize) => NO_ME;
+    fmi3GetNumberOfEventIndicators(_n: *mut usize) => NO_ME;
+    fmi3GetNumberOfContinuousStates(_n: *mut usize) => NO_ME;
+    fmi3EnterStepMode() => NO_EVENTS;
+    fmi3ActivateModelPartition(_clock: fmi3ValueReference, _time: fmi3Float64) => "this FMU implements Co-Simulation only";
+}
+
+// ---- Co-Simulation --------------------------------------------------------------------------
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3DoStep(
+    instance: fmi3Instance,
+    currentCommunicationPoint: fmi3Float64,
+    communicationStepSize: fmi3Float64,
+    _noSetFMUStatePriorToCurrentPoint: fmi3Boolean,
+    eventHandlingNeeded: *mut fmi3Boolean,
+    terminateSimulation: *mut fmi3Boolean,
+    earlyReturn: *mut fmi3Boolean,
+    lastSuccessfulTime: *mut fmi3Float64,
+) -> fmi3Status {
+    const F: Function = Function::DoStep;
+    call(instance, F, |inst, call| {
+        let (Some(event), Some(terminate), Some(early), Some(last)) = (
+            eventHandlingNeeded.as_mut(),
+            terminateSimulation.as_mut(),
+            earlyReturn.as_mut(),
+            lastSuccessfulTime.as_mut(),
+        ) else {
+            return inst.invalid_argument(
+                F.name(),
+                "eventHandlingNeeded, terminateSimulation, earlyReturn and lastSuccessfulTime must not be NULL",
+            );
+        };
+        let s = inst.do_step(call, currentCommunicationPoint, communicationStepSize);
+        *event = false;
+        *terminate = false;
+        *early = false;
+        *last = inst.time();
+        s
+    })
+}
