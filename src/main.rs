@@ -1,5 +1,5 @@
-//! `vibrofric`: exports scenes (`scenes/*.toml`, described in `docs/scenes.md`) as FMI 2.0
-//! Co-Simulation FMUs.
+//! `vibrofric`: exports scenes (`scenes/*.toml`, described in `docs/scenes.md`) as FMI 2.0 and
+//! FMI 3.0 Co-Simulation FMUs.
 //!
 //! - `vibrofric` with no arguments exports every `scenes/*.toml` into `dist/` and runs a one-line
 //!   self-check simulation of each.
@@ -62,8 +62,8 @@ const DIST_DIR: &str = "dist";
 #[command(
     name = "vibrofric",
     version,
-    about = "Exports friction-contact scenes as FMI 2.0 Co-Simulation FMUs.",
-    long_about = "Exports friction-contact scenes as FMI 2.0 Co-Simulation FMUs.\n\n\
+    about = "Exports friction-contact scenes as FMI 2.0 and FMI 3.0 Co-Simulation FMUs.",
+    long_about = "Exports friction-contact scenes as FMI 2.0 and FMI 3.0 Co-Simulation FMUs.\n\n\
         Without arguments: export every scenes/*.toml into dist/ and run a short self-check \
         simulation of each."
 )]

@@ -1,15 +1,16 @@
 //! vibrofric: the friction contact of a body sliding on a vibrating support (Leus & Gutowski,
-//! 2024), as an FMI 2.0 Co-Simulation FMU.
+//! 2024), as FMI 2.0 and FMI 3.0 Co-Simulation FMUs: the library every FMU ships.
 //!
-//! Layers, each knowing only those above it in this list:
-//! - [`physics`]: parameters, friction laws, support motion (no FMI, no integrator);
-//! - [`solver`]: the stiff, event-locating integrator (no physics, no XML);
+//! Layers, from the bottom up, each importing only those below it (`tests/layers.rs` checks;
+//! `docs/architecture.md` draws them):
+//! - [`table`]: every parameter, input and output declared once, and a scene's choices;
+//! - [`physics`]: friction laws, support motion (no FMI, no integrator);
+//! - [`solver`]: the integrators (no physics, no XML);
 //! - [`model`]: a contact as a [`model::Simulator`], specialised at compile time per scene;
-//! - [`description`]: the variable table, scenes, the generated `modelDescription.xml`;
-//! - [`fmi`]: the FMI 2.0 instance state machine and the thin `extern "C"` layer.
+//! - [`description`]: scenes, the generated model descriptions and documentation;
+//! - [`fmi`]: one instance and the thin `extern "C"` layers of FMI 2.0 and 3.0.
 //!
-//! Below them all, [`table`] declares every variable once. `unsafe` code lives only in the C
-//! layer (`fmi::ffi`, the exported C functions); everything else is safe Rust. The importer
+//! `unsafe` code lives only in the C layers; everything else is safe Rust. The importer
 //! (`vibrofric-import`) and the command line (`vibrofric-cli`) are crates of their own: the
 //! shared library carries only what an FMU runs.
 #![deny(unsafe_code)]
