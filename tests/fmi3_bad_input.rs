@@ -1,0 +1,459 @@
+//! The bad-input classes of the FMI 2.0 tests (`fmi_bad_input.rs`), replayed on the FMI 3.0 C
+//! functions of the same library: NULL pointers with nonzero lengths, a NULL instance, unknown
+//! value references and forbidden causality, calls out of order, non-finite and out-of-range
+//! values, bad communication steps, corrupted serialized states, and the FMI 3.0 specifics
+//! (`nValues` ≠ `nValueReferences`, event mode asked for, interfaces not offered). Oracle: the
+//! status is `fmi3Error`, the log line names the function and the rule, and every value reads
+//! as before.
+
+#[allow(unused_macros)]
+mod fmi_harness;
+
+use std::ffi::{c_void, CStr, CString};
+use std::os::raw::c_char;
+use std::ptr;
+use std::sync::Mutex;
+
+use fmi_harness::*;
+use libloading::{Library, Symbol};
+use vibrofric::description::xml;
+
+const OK: i32 = 0;
+const ERROR: i32 = 3;
+
+/// The log lines of one instance, reached through its environment pointer.
+type Log = Mutex<Vec<String>>;
+
+unsafe extern "C" fn log_message(
+    env: *mut c_void,
+    _status: i32,
+    _category: *const c_char,
+    message: *const c_char,
+) {
+    let log = &*(env as *const Log);
+    let text = CStr::from_ptr(message).to_string_lossy().into_owned();
+    log.lock().unwrap().push(text);
+}
+
+type Instantiate = unsafe extern "C" fn(
+    *const c_char,
+    *const c_char,
+    *const c_char,
+    bool,
+    bool,
+    bool,
+    bool,
+    *const u32,
+    usize,
+    *mut c_void,
+    Option<unsafe extern "C" fn(*mut c_void, i32, *const c_char, *const c_char)>,
+    *mut c_void,
+) -> *mut c_void;
+type Status0 = unsafe extern "C" fn(*mut c_void) -> i32;
+type EnterInit = unsafe extern "C" fn(*mut c_void, bool, f64, f64, bool, f64) -> i32;
+type GetF64 = unsafe extern "C" fn(*mut c_void, *const u32, usize, *mut f64, usize) -> i32;
+type SetF64 = unsafe extern "C" fn(*mut c_void, *const u32, usize, *const f64, usize) -> i32;
+type DoStep = unsafe extern "C" fn(
+    *mut c_void,
+    f64,
+    f64,
+    bool,
+    *mut bool,
+    *mut bool,
+    *mut bool,
+    *mut f64,
+) -> i32;
+type GetState = unsafe extern "C" fn(*mut c_void, *mut *mut c_void) -> i32;
+type SetState = unsafe extern "C" fn(*mut c_void, *mut c_void) -> i32;
+type StateSize = unsafe extern "C" fn(*mut c_void, *mut c_void, *mut usize) -> i32;
+type Serialize = unsafe extern "C" fn(*mut c_void, *mut c_void, *mut u8, usize) -> i32;
+type Deserialize = unsafe extern "C" fn(*mut c_void, *const u8, usize, *mut *mut c_void) -> i32;
+type GetInt32 = unsafe extern "C" fn(*mut c_void, *const u32, usize, *mut i32, usize) -> i32;
+
+/// One FMI 3.0 instance of a standard scene, with its log.
+struct Fmu3 {
+    lib: Library,
+    inst: *mut c_void,
+    log: Box<Log>,
+    vrs: Vec<u32>,
+    _dir: std::path::PathBuf,
+}
+
+impl Fmu3 {
+    fn new(file: &str, tag: &str) -> Fmu3 {
+        let dir = temp(tag);
+        let scene = unpack(&dir, &scene_text(file));
+        let lib = unsafe { Library::new(library()) }.unwrap();
+        let log: Box<Log> = Box::default();
+        let resources = CString::new(format!("{}/", dir.join("resources").display())).unwrap();
+        let token = CString::new(xml::guid(&scene)).unwrap();
+        let name = CString::new("fmi3-bad").unwrap();
+        let inst = unsafe {
+            let f: Symbol<Instantiate> = lib.get(b"fmi3InstantiateCoSimulation").unwrap();
+            f(
+                name.as_ptr(),
+                token.as_ptr(),
+                resources.as_ptr(),
+                false,
+                false,
+                false,
+                false,
+                ptr::null(),
+                0,
+                &*log as *const Log as *mut c_void,
+                Some(log_message),
+                ptr::null_mut(),
+            )
+        };
+        assert!(!inst.is_null(), "{:?}", log.lock().unwrap());
+        Fmu3 {
+            lib,
+            inst,
+            log,
+            vrs: all_vrs(&scene),
+            _dir: dir,
+        }
+    }
+
+    fn f<T: Copy>(&self, name: &str) -> T {
+        unsafe { *self.lib.get::<T>(name.as_bytes()).unwrap() }
+    }
+
+    fn last(&self) -> String {
+        self.log.lock().unwrap().last().cloned().unwrap_or_default()
+    }
+
+    fn start(&self) {
+        unsafe {
+            assert_eq!(
+                self.f::<EnterInit>("fmi3EnterInitializationMode")(
+                    self.inst, false, 0.0, 0.0, false, 0.0
+                ),
+                OK
+            );
+            assert_eq!(
+                self.f::<Status0>("fmi3ExitInitializationMode")(self.inst),
+                OK
+            );
+        }
+    }
+
+    fn step(&self, t: f64, h: f64) -> i32 {
+        let (mut a, mut b, mut c, mut last) = (false, false, false, 0.0);
+        unsafe {
+            self.f::<DoStep>("fmi3DoStep")(
+                self.inst, t, h, false, &mut a, &mut b, &mut c, &mut last,
+            )
+        }
+    }
+
+    fn values(&self) -> Vec<u64> {
+        let mut v = vec![0.0; self.vrs.len()];
+        let s = unsafe {
+            self.f::<GetF64>("fmi3GetFloat64")(
+                self.inst,
+                self.vrs.as_ptr(),
+                self.vrs.len(),
+                v.as_mut_ptr(),
+                v.len(),
+            )
+        };
+        assert_eq!(s, OK, "{}", self.last());
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    fn get_state(&self) -> *mut c_void {
+        let mut s = ptr::null_mut();
+        assert_eq!(
+            unsafe { self.f::<GetState>("fmi3GetFMUState")(self.inst, &mut s) },
+            OK
+        );
+        s
+    }
+
+    fn set_state(&self, s: *mut c_void) {
+        assert_eq!(
+            unsafe { self.f::<SetState>("fmi3SetFMUState")(self.inst, s) },
+            OK,
+            "{}",
+            self.last()
+        );
+    }
+
+    /// Runs `bad`, which must return `fmi3Error` with a log line containing every word of
+    /// `says`, then restores `state` and checks that every value reads as before.
+    fn refuses(
+        &self,
+        what: &str,
+        says: &[&str],
+        state: *mut c_void,
+        before: &[u64],
+        bad: impl FnOnce(&Fmu3) -> i32,
+    ) {
+        let s = bad(self);
+        assert_eq!(s, ERROR, "{what}: status {s}, log {}", self.last());
+        let msg = self.last();
+        for w in says {
+            assert!(msg.contains(w), "{what}: {w:?} not in {msg:?}");
+        }
+        self.set_state(state);
+        assert_eq!(self.values(), before, "{what}: values changed");
+    }
+}
+
+impl Drop for Fmu3 {
+    fn drop(&mut self) {
+        unsafe {
+            let free: Symbol<unsafe extern "C" fn(*mut c_void)> =
+                self.lib.get(b"fmi3FreeInstance").unwrap();
+            free(self.inst);
+        }
+    }
+}
+
+#[test]
+fn every_bad_input_class_of_fmi2_is_refused_by_fmi3_naming_the_rule() {
+    let fmu = Fmu3::new("contact.toml", "fmi3-bad");
+    fmu.start();
+    assert_eq!(fmu.step(0.0, 1e-3), OK);
+    let state = fmu.get_state();
+    let before = fmu.values();
+    let t = 1e-3;
+    let (k_t, f_d, x) = (vr::K_T, vr::F_D, vr::X);
+    let get: GetF64 = fmu.f("fmi3GetFloat64");
+    let set: SetF64 = fmu.f("fmi3SetFloat64");
+    let inst = fmu.inst;
+    unsafe {
+        // NULL arrays with nonzero lengths, and nValues ≠ nValueReferences.
+        fmu.refuses(
+            "get NULL vrs",
+            &["fmi3GetFloat64", "valueReferences = NULL"],
+            state,
+            &before,
+            |_| {
+                let mut v = [0.0; 2];
+                get(inst, ptr::null(), 2, v.as_mut_ptr(), 2)
+            },
+        );
+        fmu.refuses(
+            "set NULL values",
+            &["fmi3SetFloat64", "values = NULL"],
+            state,
+            &before,
+            |_| set(inst, [f_d].as_ptr(), 1, ptr::null(), 1),
+        );
+        fmu.refuses(
+            "nValues",
+            &["fmi3GetFloat64", "nValues = 2"],
+            state,
+            &before,
+            |_| {
+                let mut v = [0.0; 2];
+                get(inst, [x].as_ptr(), 1, v.as_mut_ptr(), 2)
+            },
+        );
+        // Unknown value reference, causality output, fixed parameter after initialization.
+        fmu.refuses(
+            "unknown vr",
+            &["fmi3SetFloat64", "999"],
+            state,
+            &before,
+            |_| set(inst, [999].as_ptr(), 1, [1.0].as_ptr(), 1),
+        );
+        fmu.refuses(
+            "output set",
+            &["fmi3SetFloat64", "causality output"],
+            state,
+            &before,
+            |_| set(inst, [x].as_ptr(), 1, [1.0].as_ptr(), 1),
+        );
+        fmu.refuses(
+            "fixed",
+            &["fmi3SetFloat64", "k_t", "fixed"],
+            state,
+            &before,
+            |_| set(inst, [k_t].as_ptr(), 1, [2e8].as_ptr(), 1),
+        );
+        // Non-finite and out-of-range values; the first value of a pair is not written either.
+        fmu.refuses(
+            "NaN input",
+            &["fmi3SetFloat64", "F_d"],
+            state,
+            &before,
+            |_| set(inst, [f_d].as_ptr(), 1, [f64::NAN].as_ptr(), 1),
+        );
+        fmu.refuses("pair", &["fmi3SetFloat64", "F_d"], state, &before, |_| {
+            set(
+                inst,
+                [vr::U0, f_d].as_ptr(),
+                2,
+                [1e-7, f64::INFINITY].as_ptr(),
+                2,
+            )
+        });
+        fmu.refuses(
+            "mu range",
+            &["fmi3SetFloat64", "mu"],
+            state,
+            &before,
+            |_| set(inst, [vr::MU].as_ptr(), 1, [-0.1].as_ptr(), 1),
+        );
+        // Bad communication steps.
+        fmu.refuses(
+            "wrong point",
+            &["fmi3DoStep", "currentCommunicationPoint"],
+            state,
+            &before,
+            |f| f.step(t + 1.0, 1e-3),
+        );
+        fmu.refuses(
+            "zero step",
+            &["fmi3DoStep", "communicationStepSize"],
+            state,
+            &before,
+            |f| f.step(t, 0.0),
+        );
+        fmu.refuses(
+            "NaN step",
+            &["fmi3DoStep", "communicationStepSize"],
+            state,
+            &before,
+            |f| f.step(t, f64::NAN),
+        );
+        // Calls out of order.
+        fmu.refuses(
+            "exit init twice",
+            &["fmi3ExitInitializationMode", "not allowed in state"],
+            state,
+            &before,
+            |f| f.f::<Status0>("fmi3ExitInitializationMode")(inst),
+        );
+        // Types this FMU has none of, and what it does not offer.
+        fmu.refuses("Int32", &["fmi3GetInt32", "Int32"], state, &before, |f| {
+            let mut v = [0i32];
+            f.f::<GetInt32>("fmi3GetInt32")(inst, [k_t].as_ptr(), 1, v.as_mut_ptr(), 1)
+        });
+        fmu.refuses(
+            "event mode",
+            &["fmi3EnterEventMode", "event mode"],
+            state,
+            &before,
+            |f| f.f::<Status0>("fmi3EnterEventMode")(inst),
+        );
+        // A corrupted serialized state: one bit flipped, or one byte short.
+        let mut size = 0;
+        assert_eq!(
+            fmu.f::<StateSize>("fmi3SerializedFMUStateSize")(inst, state, &mut size),
+            OK
+        );
+        let mut bytes = vec![0u8; size];
+        assert_eq!(
+            fmu.f::<Serialize>("fmi3SerializeFMUState")(inst, state, bytes.as_mut_ptr(), size),
+            OK
+        );
+        let deserialize: Deserialize = fmu.f("fmi3DeserializeFMUState");
+        let mut flipped = bytes.clone();
+        flipped[40] ^= 1;
+        fmu.refuses(
+            "flipped bit",
+            &["fmi3DeserializeFMUState", "checksum"],
+            state,
+            &before,
+            |_| {
+                let mut s = ptr::null_mut();
+                deserialize(inst, flipped.as_ptr(), flipped.len(), &mut s)
+            },
+        );
+        fmu.refuses(
+            "short",
+            &["fmi3DeserializeFMUState", "truncated"],
+            state,
+            &before,
+            |_| {
+                let mut s = ptr::null_mut();
+                deserialize(inst, bytes.as_ptr(), bytes.len() - 1, &mut s)
+            },
+        );
+        // And the untouched bytes restore and step on.
+        let mut s = ptr::null_mut();
+        assert_eq!(deserialize(inst, bytes.as_ptr(), bytes.len(), &mut s), OK);
+        fmu.set_state(s);
+        assert_eq!(fmu.step(t, 1e-3), OK, "{}", fmu.last());
+    }
+}
+
+#[test]
+fn a_null_instance_returns_error_everywhere() {
+    let fmu = Fmu3::new("contact.toml", "fmi3-null");
+    let c = ptr::null_mut();
+    let mut v = [0.0];
+    let mut s = ptr::null_mut();
+    let (mut a, mut b, mut e, mut last) = (false, false, false, 0.0);
+    unsafe {
+        let statuses = [
+            fmu.f::<EnterInit>("fmi3EnterInitializationMode")(c, false, 0.0, 0.0, false, 0.0),
+            fmu.f::<Status0>("fmi3ExitInitializationMode")(c),
+            fmu.f::<Status0>("fmi3Terminate")(c),
+            fmu.f::<Status0>("fmi3Reset")(c),
+            fmu.f::<GetF64>("fmi3GetFloat64")(c, [201].as_ptr(), 1, v.as_mut_ptr(), 1),
+            fmu.f::<SetF64>("fmi3SetFloat64")(c, [101].as_ptr(), 1, v.as_ptr(), 1),
+            fmu.f::<DoStep>("fmi3DoStep")(c, 0.0, 1e-3, false, &mut a, &mut b, &mut e, &mut last),
+            fmu.f::<GetState>("fmi3GetFMUState")(c, &mut s),
+            fmu.f::<Status0>("fmi3EnterEventMode")(c),
+        ];
+        assert!(statuses.iter().all(|&s| s == ERROR), "{statuses:?}");
+    }
+}
+
+#[test]
+fn instantiation_refuses_a_wrong_token_event_mode_and_no_resources() {
+    let dir = temp("fmi3-inst");
+    let scene = unpack(&dir, &scene_text("contact.toml"));
+    let lib = unsafe { Library::new(library()) }.unwrap();
+    let f: Instantiate = unsafe { *lib.get(b"fmi3InstantiateCoSimulation").unwrap() };
+    let resources = CString::new(format!("{}/", dir.join("resources").display())).unwrap();
+    let good = CString::new(xml::guid(&scene)).unwrap();
+    let bad = CString::new("{not-this-fmu}").unwrap();
+    let name = CString::new("i").unwrap();
+    let log: Box<Log> = Box::default();
+    let env = &*log as *const Log as *mut c_void;
+    let make = |token: &CString, res: *const c_char, event_mode: bool| unsafe {
+        f(
+            name.as_ptr(),
+            token.as_ptr(),
+            res,
+            false,
+            false,
+            event_mode,
+            false,
+            ptr::null(),
+            0,
+            env,
+            Some(log_message),
+            ptr::null_mut(),
+        )
+    };
+    for (token, res, event, says) in [
+        (
+            &bad,
+            resources.as_ptr(),
+            false,
+            "instantiationToken = \"{not-this-fmu}\"",
+        ),
+        (&good, resources.as_ptr(), true, "eventModeUsed = true"),
+        (&good, ptr::null(), false, "resourcePath = NULL"),
+    ] {
+        assert!(make(token, res, event).is_null());
+        let msg = log.lock().unwrap().last().cloned().unwrap();
+        assert!(
+            msg.starts_with("fmi3InstantiateCoSimulation: ") && msg.contains(says),
+            "{msg}"
+        );
+    }
+    let inst = make(&good, resources.as_ptr(), false);
+    assert!(!inst.is_null());
+    unsafe {
+        let free: unsafe extern "C" fn(*mut c_void) = *lib.get(b"fmi3FreeInstance").unwrap();
+        free(inst);
+    }
+}
