@@ -269,7 +269,12 @@ fn every_bad_input_class_of_fmi2_is_refused_by_fmi3_naming_the_rule() {
         );
         fmu.refuses(
             "fixed",
-            &["fmi3SetFloat64", "k_t", "fixed"],
+            &[
+                "fmi3SetFloat64",
+                "k_t",
+                "fixed",
+                "before fmi3ExitInitializationMode",
+            ],
             state,
             &before,
             |_| set(inst, [k_t].as_ptr(), 1, [2e8].as_ptr(), 1),

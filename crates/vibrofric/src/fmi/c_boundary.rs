@@ -52,9 +52,7 @@ pub(crate) unsafe fn run(
             Ok(s) => s,
             Err(p) => {
                 let what = panic_text(p.as_ref());
-                let _ = catch_unwind(AssertUnwindSafe(|| {
-                    comp.inst.internal_error(call.name, &what)
-                }));
+                let _ = catch_unwind(AssertUnwindSafe(|| comp.inst.internal_error(call, &what)));
                 Status::Error
             }
         },

@@ -229,11 +229,15 @@ impl Instance {
 
     /// Called by the C layer after it caught a panic: the instance may be half-updated, so it
     /// only remains to be reset, restored or freed.
-    pub fn internal_error(&mut self, f: &str, what: &str) -> Status {
+    pub fn internal_error(&mut self, call: Call, what: &str) -> Status {
         self.provisional = None;
+        let (f, words) = (call.name, call.words);
         self.fail(
             f,
-            format!("internal error ({what}); call fmi2Reset or fmi2SetFMUstate to continue"),
+            format!(
+                "internal error ({what}); call {} or {} to continue",
+                words.reset, words.set_state
+            ),
         )
     }
 
@@ -285,7 +289,10 @@ impl Instance {
             if !(tol.is_finite() && tol > 0.0) {
                 return self.fail(
                     f,
-                    format!("tolerance = {tol}: must be finite and > 0 (or toleranceDefined = fmi2False)"),
+                    format!(
+                        "tolerance = {tol}: must be finite and > 0 (or toleranceDefined = {})",
+                        call.words.false_
+                    ),
                 );
             }
         }
@@ -486,7 +493,7 @@ impl Instance {
         // arises; this is the last guard).
         if let Some((v, x)) = vars.iter().zip(values.iter()).find(|(_, x)| !x.is_finite()) {
             let (name, x) = (v.name(), *x);
-            return self.fail(f, format!("{name} evaluates to {x}: a parameter or input is beyond what the model can compute; restore a state with fmi2SetFMUstate"));
+            return self.fail(f, format!("{name} evaluates to {x}: a parameter or input is beyond what the model can compute; restore a state with {}", call.words.set_state));
         }
         Status::Ok
     }
@@ -528,7 +535,8 @@ impl Instance {
                         return self.fail(
                             f,
                             format!(
-                                "{name} (vr {vr}) is a parameter with variability fixed: it can only be set before fmi2ExitInitializationMode, not in state {}",
+                                "{name} (vr {vr}) is a parameter with variability fixed: it can only be set before {}, not in state {}",
+                                call.words.exit_initialization,
                                 state.name()
                             ),
                         );
@@ -702,7 +710,10 @@ impl Instance {
             let Some(sim) = self.sim.as_ref() else {
                 return self.fail(
                     f,
-                    "no simulation state: call fmi2ExitInitializationMode first",
+                    format!(
+                        "no simulation state: call {} first",
+                        call.words.exit_initialization
+                    ),
                 );
             };
             match sim.output_derivative(id) {
@@ -713,7 +724,7 @@ impl Instance {
                 None => {
                     return self.fail(
                         f,
-                        format!("{name} (vr {vr}) has no exact time derivative; derivatives are provided for x, y, v_x, v_y, s_x, s_y, and for F_Fx_step, F_Fy_step after the first fmi2DoStep"),
+                        format!("{name} (vr {vr}) has no exact time derivative; derivatives are provided for x, y, v_x, v_y, s_x, s_y, and for F_Fx_step, F_Fy_step after the first {}", call.words.do_step),
                     )
                 }
             }
@@ -794,13 +805,13 @@ impl Instance {
                 return self.fail(
                     f,
                     format!(
-                        "currentCommunicationPoint + communicationStepSize = {target} is past stopTime = {stop} of fmi2SetupExperiment"
+                        "currentCommunicationPoint + communicationStepSize = {target} is past stopTime = {stop} of {}", call.words.setup_experiment
                     ),
                 );
             }
         }
         let Some(sim) = self.sim.as_mut() else {
-            return self.internal_error(f, "no simulator in state StepComplete");
+            return self.internal_error(call, "no simulator in state StepComplete");
         };
         match sim.step_to(target) {
             Ok(()) => {
@@ -812,7 +823,7 @@ impl Instance {
                 self.discard(
                     f,
                     format!(
-                        "the integrator could not reach t = {target} from t = {t} ({e}); the instance stays at t = {t} (fmi2LastSuccessfulTime); restore a state with fmi2SetFMUstate to retry with a shorter step"
+                        "the integrator could not reach t = {target} from t = {t} ({e}); the instance stays at t = {t} ({}); restore a state with {} to retry with a shorter step", call.words.last_successful_time, call.words.set_state
                     ),
                 )
             }

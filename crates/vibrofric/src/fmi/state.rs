@@ -73,10 +73,25 @@ impl States {
     }
 }
 
-/// One call of the C interface as the instance sees it: its name and the states it is allowed
-/// in.
+/// One call of the C interface as the instance sees it: its name, the states it is allowed in,
+/// and the names of the version's other functions its messages may point the user to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Call {
     pub name: &'static str,
     pub allowed: States,
+    pub words: &'static Vocabulary,
+}
+
+/// The names of an FMI version's functions and arguments that messages point the user to.
+#[derive(Debug, PartialEq, Eq)]
+pub struct Vocabulary {
+    pub reset: &'static str,
+    pub set_state: &'static str,
+    pub exit_initialization: &'static str,
+    /// The call that sets the experiment (tolerance, start and stop time).
+    pub setup_experiment: &'static str,
+    pub do_step: &'static str,
+    pub last_successful_time: &'static str,
+    /// The boolean false of the C interface.
+    pub false_: &'static str,
 }

@@ -1,7 +1,7 @@
 //! Every function of the FMI 2.0 Co-Simulation interface and the one table of the states each
 //! may be called in (FMI 2.0, section 4.2.4, the state machine of a Co-Simulation slave).
 
-use crate::fmi::state::{Call, State, States};
+use crate::fmi::state::{Call, State, States, Vocabulary};
 
 /// A function of the FMI 2.0 C interface that acts on an instance.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -131,6 +131,18 @@ impl Function {
         Call {
             name: self.name(),
             allowed: self.allowed(),
+            words: &WORDS,
         }
     }
 }
+
+/// What messages call the FMI 2.0 functions they point to.
+pub static WORDS: Vocabulary = Vocabulary {
+    reset: "fmi2Reset",
+    set_state: "fmi2SetFMUstate",
+    exit_initialization: "fmi2ExitInitializationMode",
+    setup_experiment: "fmi2SetupExperiment",
+    do_step: "fmi2DoStep",
+    last_successful_time: "fmi2LastSuccessfulTime",
+    false_: "fmi2False",
+};

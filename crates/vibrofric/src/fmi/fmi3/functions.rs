@@ -3,7 +3,7 @@
 //! Scheduled Execution, clocks, event mode and configuration mode are not offered: their
 //! functions answer with an error in every state.
 
-use crate::fmi::state::{Call, State, States};
+use crate::fmi::state::{Call, State, States, Vocabulary};
 
 /// A function of the FMI 3.0 C interface that acts on an instance.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -111,6 +111,18 @@ impl Function {
         Call {
             name: self.name(),
             allowed: self.allowed(),
+            words: &WORDS,
         }
     }
 }
+
+/// What messages call the FMI 3.0 functions they point to.
+pub static WORDS: Vocabulary = Vocabulary {
+    reset: "fmi3Reset",
+    set_state: "fmi3SetFMUState",
+    exit_initialization: "fmi3ExitInitializationMode",
+    setup_experiment: "fmi3EnterInitializationMode",
+    do_step: "fmi3DoStep",
+    last_successful_time: "lastSuccessfulTime of fmi3DoStep",
+    false_: "fmi3False",
+};
