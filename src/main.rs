@@ -32,6 +32,7 @@ use zip::{CompressionMethod, DateTime, ZipWriter};
 use vibrofric::description::variables::Causality;
 use vibrofric::description::{docs, xml, xml3, Scene};
 use vibrofric::model::{self, InputId};
+use vibrofric_import::fmi3::Fmu3;
 use vibrofric_import::Fmu;
 
 /// FMI 2.0 platform directory of this build (`linux64`, `win64`, `darwin64`).
@@ -431,6 +432,10 @@ fn export(
                 Ok(line) => println!("  self-check: {line}"),
                 Err(e) => return Err(format!("{}: self-check failed: {e}", fmu.display())),
             }
+            match self_check_fmi3(&fmu3, &fmu) {
+                Ok(line) => println!("  self-check FMI 3.0: {line}"),
+                Err(e) => return Err(format!("{}: self-check failed: {e}", fmu3.display())),
+            }
         }
     }
     Ok(())
@@ -474,6 +479,41 @@ fn write_fmu(
     zip.finish().map_err(zerr)?;
     std::fs::rename(&tmp, path).map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(())
+}
+
+/// The FMI 3.0 edition through the importer's FMI 3.0 loader, on the steps of [`self_check`]:
+/// its `F_mean` and `reduction` must equal the FMI 2.0 edition's bit for bit.
+fn self_check_fmi3(fmu3_path: &Path, fmu2_path: &Path) -> Result<String, String> {
+    let (t0, t1, _, step) = xml::DEFAULT_EXPERIMENT;
+    let fmu2 = Fmu::load(fmu2_path).map_err(|e| e.to_string())?;
+    let fmu3 = Fmu3::load(fmu3_path).map_err(|e| e.to_string())?;
+    if fmu3.description.guid != fmu2.description.guid {
+        return Err(format!(
+            "instantiationToken {} is not the FMI 2.0 GUID {}",
+            fmu3.description.guid, fmu2.description.guid
+        ));
+    }
+    let outputs = ["F_mean", "reduction"].map(|n| fmu2.description.vr(n));
+    let outputs: Vec<u32> = outputs.into_iter().flatten().collect();
+    let rows2 = fmu2
+        .simulate(t1 - t0, step, &[], &outputs)
+        .map_err(|e| e.to_string())?;
+    let rows3 = fmu3
+        .simulate(t1 - t0, step, &[], &outputs)
+        .map_err(|e| e.to_string())?;
+    let same = rows2.len() == rows3.len()
+        && rows2
+            .iter()
+            .flatten()
+            .zip(rows3.iter().flatten())
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+    if !same {
+        return Err("F_mean or reduction differ from the FMI 2.0 edition's".into());
+    }
+    Ok(format!(
+        "F_mean and reduction at all {} points equal to the FMI 2.0 edition's, bit for bit",
+        rows3.len()
+    ))
 }
 
 /// A short simulation through the exported FMU: load the archive with the crate's importer

@@ -26,6 +26,8 @@ use std::sync::Mutex;
 
 use libloading::Library;
 
+pub mod fmi3;
+
 use vibrofric::fmi::fmi2::types::*;
 pub use vibrofric::fmi::Status;
 
@@ -66,7 +68,7 @@ impl fmt::Display for ImportError {
 
 impl std::error::Error for ImportError {}
 
-fn err<T>(msg: impl Into<String>) -> Result<T, ImportError> {
+pub(crate) fn err<T>(msg: impl Into<String>) -> Result<T, ImportError> {
     Err(ImportError(msg.into()))
 }
 
@@ -239,13 +241,17 @@ impl Description {
                 "fmiModelDescription" => {
                     d.fmi_version = attr("fmiVersion")?.unwrap_or_default();
                     d.model_name = attr("modelName")?.unwrap_or_default();
-                    d.guid = attr("guid")?.unwrap_or_default();
+                    // FMI 3.0 calls the GUID the instantiation token.
+                    d.guid = attr("guid")?
+                        .or(attr("instantiationToken")?)
+                        .unwrap_or_default();
                 }
                 "CoSimulation" => {
                     cs = true;
                     d.model_identifier = attr("modelIdentifier")?.unwrap_or_default();
                 }
-                "ScalarVariable" => {
+                // FMI 2.0's ScalarVariable, FMI 3.0's Float64 (the only type this FMU has).
+                "ScalarVariable" | "Float64" => {
                     let name = attr("name")?.unwrap_or_default();
                     let vr = attr("valueReference")?
                         .and_then(|v| v.parse().ok())
@@ -257,9 +263,9 @@ impl Description {
                 _ => {}
             }
         }
-        if d.fmi_version != "2.0" {
+        if d.fmi_version != "2.0" && d.fmi_version != "3.0" {
             return err(format!(
-                "modelDescription.xml: fmiVersion = \"{}\", this importer reads FMI 2.0",
+                "modelDescription.xml: fmiVersion = \"{}\", this importer reads FMI 2.0 and 3.0",
                 d.fmi_version
             ));
         }
@@ -276,6 +282,33 @@ impl Description {
             .find(|(n, _)| n == name)
             .map(|&(_, vr)| vr)
     }
+}
+
+/// An FMU's folder (unpacked into a temporary folder, kept while the result lives, when `path`
+/// is an archive) and its model description.
+pub(crate) fn unpack(
+    path: &Path,
+) -> Result<(PathBuf, Option<tempfile::TempDir>, Description), ImportError> {
+    let (dir, tmp) = if path.is_dir() {
+        (path.to_path_buf(), None)
+    } else {
+        let file = std::fs::File::open(path)
+            .map_err(|e| ImportError(format!("cannot open {}: {e}", path.display())))?;
+        let mut zip = zip::ZipArchive::new(file)
+            .map_err(|e| ImportError(format!("{} is not a zip archive: {e}", path.display())))?;
+        let tmp = tempfile::Builder::new()
+            .prefix("vibrofric-fmu-")
+            .tempdir()
+            .map_err(|e| ImportError(format!("cannot create a temporary folder: {e}")))?;
+        zip.extract(tmp.path())
+            .map_err(|e| ImportError(format!("cannot unpack {}: {e}", path.display())))?;
+        (tmp.path().to_path_buf(), Some(tmp))
+    };
+    let md = dir.join("modelDescription.xml");
+    let xml = std::fs::read_to_string(&md)
+        .map_err(|e| ImportError(format!("cannot read {}: {e}", md.display())))?;
+    let description = Description::parse(&xml)?;
+    Ok((dir, tmp, description))
 }
 
 /// A loaded FMU: its unpacked folder, model description and C functions.
@@ -315,26 +348,14 @@ impl Fmu {
     /// Loads an unpacked FMU folder, or a `.fmu` archive (unpacked into a temporary folder that
     /// is removed when the `Fmu` is dropped).
     pub fn load(path: &Path) -> Result<Fmu, ImportError> {
-        let (dir, tmp) = if path.is_dir() {
-            (path.to_path_buf(), None)
-        } else {
-            let file = std::fs::File::open(path)
-                .map_err(|e| ImportError(format!("cannot open {}: {e}", path.display())))?;
-            let mut zip = zip::ZipArchive::new(file).map_err(|e| {
-                ImportError(format!("{} is not a zip archive: {e}", path.display()))
-            })?;
-            let tmp = tempfile::Builder::new()
-                .prefix("vibrofric-fmu-")
-                .tempdir()
-                .map_err(|e| ImportError(format!("cannot create a temporary folder: {e}")))?;
-            zip.extract(tmp.path())
-                .map_err(|e| ImportError(format!("cannot unpack {}: {e}", path.display())))?;
-            (tmp.path().to_path_buf(), Some(tmp))
-        };
-        let md = dir.join("modelDescription.xml");
-        let xml = std::fs::read_to_string(&md)
-            .map_err(|e| ImportError(format!("cannot read {}: {e}", md.display())))?;
-        let description = Description::parse(&xml)?;
+        let (dir, tmp, description) = unpack(path)?;
+        if description.fmi_version != "2.0" {
+            return err(format!(
+                "{}: an FMI {} FMU; load it with fmi3::Fmu3",
+                path.display(),
+                description.fmi_version
+            ));
+        }
         let (platform, ext) = platform();
         let lib_path = dir
             .join("binaries")
