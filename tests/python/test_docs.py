@@ -24,6 +24,9 @@ def python_blocks(text):
 def run_in_copy(tmp_path, code):
     for f in DIST.glob("*.fmu"):
         shutil.copy(f, tmp_path / f.name)
+    (tmp_path / "fmi3").mkdir()
+    for f in (DIST / "fmi3").glob("*.fmu"):
+        shutil.copy(f, tmp_path / "fmi3" / f.name)
     script = tmp_path / "example.py"
     script.write_text(code)
     r = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
