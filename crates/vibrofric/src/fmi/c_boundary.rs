@@ -113,3 +113,168 @@ pub(crate) unsafe fn store(slot: &mut *mut c_void, state: FmuState) -> bool {
         false
     }
 }
+
+// ---- FMU states: the bodies of the six state functions, the same in every version ----------
+
+/// Get state: a new state in `*slot`, or the box already there reused.
+pub(crate) unsafe fn get_state(inst: &mut Instance, call: Call, slot: *mut *mut c_void) -> Status {
+    let w = call.words;
+    let Some(slot) = slot.as_mut() else {
+        let msg = format!("{} = NULL: must point to an {}", w.state_arg, w.state_type);
+        return inst.invalid_argument(call.name, msg);
+    };
+    let state = match inst.get_fmu_state(call) {
+        Ok(s) => s,
+        Err(s) => return s,
+    };
+    if store(slot, state) {
+        Status::Ok
+    } else {
+        let msg = format!(
+            "*{} is neither NULL nor a state returned by this FMU",
+            w.state_arg
+        );
+        inst.invalid_argument(call.name, msg)
+    }
+}
+
+/// Set state.
+pub(crate) unsafe fn set_state(inst: &mut Instance, call: Call, state: *mut c_void) -> Status {
+    let w = call.words;
+    match state_ref(state) {
+        Some(b) => inst.set_fmu_state(call, &b.state),
+        None => inst.invalid_argument(
+            call.name,
+            format!(
+                "{} is NULL or not a state returned by {}/{}",
+                w.state_arg, w.get_state, w.deserialize_state
+            ),
+        ),
+    }
+}
+
+/// Free state: frees `*slot` and sets it to NULL (nothing to do for NULL).
+pub(crate) unsafe fn free_state(inst: &mut Instance, call: Call, slot: *mut *mut c_void) -> Status {
+    let w = call.words;
+    let Some(slot) = slot.as_mut() else {
+        let msg = format!("{} = NULL: must point to an {}", w.state_arg, w.state_type);
+        return inst.invalid_argument(call.name, msg);
+    };
+    let s = inst.allow_call(call);
+    if s != Status::Ok {
+        return s;
+    }
+    if slot.is_null() {
+        return Status::Ok;
+    }
+    match state_ref(*slot) {
+        Some(b) => {
+            b.magic = 0;
+            drop(Box::from_raw(b as *mut StateBox));
+            *slot = std::ptr::null_mut();
+            Status::Ok
+        }
+        None => {
+            let msg = format!("*{} is not a state returned by this FMU", w.state_arg);
+            inst.invalid_argument(call.name, msg)
+        }
+    }
+}
+
+/// Serialized state size.
+pub(crate) unsafe fn state_size(
+    inst: &mut Instance,
+    call: Call,
+    state: *mut c_void,
+    size: *mut usize,
+) -> Status {
+    let Some(b) = state_ref(state) else {
+        let msg = format!(
+            "{} is NULL or not a state of this FMU",
+            call.words.state_arg
+        );
+        return inst.invalid_argument(call.name, msg);
+    };
+    let Some(size) = size.as_mut() else {
+        return inst.invalid_argument(call.name, "size = NULL");
+    };
+    match inst.serialize_fmu_state(call, &b.state) {
+        Ok(bytes) => {
+            *size = bytes.len();
+            Status::Ok
+        }
+        Err(s) => s,
+    }
+}
+
+/// Serialize state into `size` bytes at `out` (zero-filled past the state).
+pub(crate) unsafe fn serialize_state(
+    inst: &mut Instance,
+    call: Call,
+    state: *mut c_void,
+    out: *mut u8,
+    size: usize,
+) -> Status {
+    let Some(b) = state_ref(state) else {
+        let msg = format!(
+            "{} is NULL or not a state of this FMU",
+            call.words.state_arg
+        );
+        return inst.invalid_argument(call.name, msg);
+    };
+    let bytes = match inst.serialize_fmu_state(call, &b.state) {
+        Ok(b) => b,
+        Err(s) => return s,
+    };
+    if size < bytes.len() {
+        let msg = format!(
+            "size = {size}: the state needs {} bytes ({})",
+            bytes.len(),
+            call.words.state_size
+        );
+        return inst.invalid_argument(call.name, msg);
+    }
+    let Some(out) = array_mut(out, size) else {
+        return inst.invalid_argument(
+            call.name,
+            format!("serializedState = NULL with size = {size}"),
+        );
+    };
+    out[..bytes.len()].copy_from_slice(&bytes);
+    out[bytes.len()..].fill(0);
+    Status::Ok
+}
+
+/// Deserialize state: a new state in `*slot` from `size` bytes at `bytes`.
+pub(crate) unsafe fn deserialize_state(
+    inst: &mut Instance,
+    call: Call,
+    bytes: *const u8,
+    size: usize,
+    slot: *mut *mut c_void,
+) -> Status {
+    let w = call.words;
+    let Some(bytes) = array(bytes, size) else {
+        return inst.invalid_argument(
+            call.name,
+            format!("serializedState = NULL with size = {size}"),
+        );
+    };
+    let Some(slot) = slot.as_mut() else {
+        let msg = format!("{} = NULL: must point to an {}", w.state_arg, w.state_type);
+        return inst.invalid_argument(call.name, msg);
+    };
+    let state = match inst.deserialize_fmu_state(call, bytes) {
+        Ok(s) => s,
+        Err(s) => return s,
+    };
+    if store(slot, state) {
+        Status::Ok
+    } else {
+        let msg = format!(
+            "*{} is neither NULL nor a state returned by this FMU",
+            w.state_arg
+        );
+        inst.invalid_argument(call.name, msg)
+    }
+}

@@ -94,4 +94,10 @@ pub struct Vocabulary {
     pub last_successful_time: &'static str,
     /// The boolean false of the C interface.
     pub false_: &'static str,
+    /// The FMU-state argument and type, and the functions that make and measure states.
+    pub state_arg: &'static str,
+    pub state_type: &'static str,
+    pub get_state: &'static str,
+    pub deserialize_state: &'static str,
+    pub state_size: &'static str,
 }

@@ -21,8 +21,8 @@ use super::types::*;
 use super::{co_simulation, Function};
 use crate::description::log::Category;
 use crate::fmi::c_boundary::{
-    array, array_mut, component, null, run, state_ref, store, string, Component, StateBox,
-    COMPONENT_MAGIC,
+    array, array_mut, component, deserialize_state, free_state, get_state, null, run,
+    serialize_state, set_state, state_size, string, Component, COMPONENT_MAGIC,
 };
 use crate::fmi::{Call, Instance, Logger, NoLogger, Status};
 
@@ -387,36 +387,15 @@ pub unsafe extern "C" fn fmi2GetFMUstate(
     c: fmi2Component,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    const F: Function = Function::GetFMUstate;
-    call(c, F, |inst, call| {
-        let Some(slot) = FMUstate.as_mut() else {
-            return inst
-                .invalid_argument(F.name(), "FMUstate = NULL: must point to an fmi2FMUstate");
-        };
-        let state = match inst.get_fmu_state(call) {
-            Ok(s) => s,
-            Err(s) => return s,
-        };
-        if store(slot, state) {
-            Status::Ok
-        } else {
-            inst.invalid_argument(
-                F.name(),
-                "*FMUstate is neither NULL nor a state returned by this FMU",
-            )
-        }
+    call(c, Function::GetFMUstate, |i, call| {
+        get_state(i, call, FMUstate)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status {
-    const F: Function = Function::SetFMUstate;
-    call(c, F, |inst, call| match state_ref(FMUstate) {
-        Some(b) => inst.set_fmu_state(call, &b.state),
-        None => inst.invalid_argument(
-            F.name(),
-            "FMUstate is NULL or not a state returned by fmi2GetFMUstate/fmi2DeSerializeFMUstate",
-        ),
+    call(c, Function::SetFMUstate, |i, call| {
+        set_state(i, call, FMUstate)
     })
 }
 
@@ -425,30 +404,8 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     c: fmi2Component,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    const F: Function = Function::FreeFMUstate;
-    call(c, F, |inst, call| {
-        let Some(slot) = FMUstate.as_mut() else {
-            return inst
-                .invalid_argument(F.name(), "FMUstate = NULL: must point to an fmi2FMUstate");
-        };
-        let s = inst.allow_call(call);
-        if s != Status::Ok {
-            return s;
-        }
-        if slot.is_null() {
-            return Status::Ok;
-        }
-        match state_ref(*slot) {
-            Some(b) => {
-                b.magic = 0;
-                drop(Box::from_raw(b as *mut StateBox));
-                *slot = ptr::null_mut();
-                Status::Ok
-            }
-            None => {
-                inst.invalid_argument(F.name(), "*FMUstate is not a state returned by this FMU")
-            }
-        }
+    call(c, Function::FreeFMUstate, |i, call| {
+        free_state(i, call, FMUstate)
     })
 }
 
@@ -458,21 +415,8 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     FMUstate: fmi2FMUstate,
     size: *mut usize,
 ) -> fmi2Status {
-    const F: Function = Function::SerializedFMUstateSize;
-    call(c, F, |inst, call| {
-        let Some(b) = state_ref(FMUstate) else {
-            return inst.invalid_argument(F.name(), "FMUstate is NULL or not a state of this FMU");
-        };
-        let Some(size) = size.as_mut() else {
-            return inst.invalid_argument(F.name(), "size = NULL");
-        };
-        match inst.serialize_fmu_state(call, &b.state) {
-            Ok(bytes) => {
-                *size = bytes.len();
-                Status::Ok
-            }
-            Err(s) => s,
-        }
+    call(c, Function::SerializedFMUstateSize, |i, call| {
+        state_size(i, call, FMUstate, size)
     })
 }
 
@@ -483,33 +427,8 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
     serializedState: *mut fmi2Byte,
     size: usize,
 ) -> fmi2Status {
-    const F: Function = Function::SerializeFMUstate;
-    call(c, F, |inst, call| {
-        let Some(b) = state_ref(FMUstate) else {
-            return inst.invalid_argument(F.name(), "FMUstate is NULL or not a state of this FMU");
-        };
-        let bytes = match inst.serialize_fmu_state(call, &b.state) {
-            Ok(bytes) => bytes,
-            Err(s) => return s,
-        };
-        if size < bytes.len() {
-            return inst.invalid_argument(
-                F.name(),
-                format!(
-                    "size = {size}: the state needs {} bytes (fmi2SerializedFMUstateSize)",
-                    bytes.len()
-                ),
-            );
-        }
-        let Some(out) = array_mut(serializedState as *mut u8, size) else {
-            return inst.invalid_argument(
-                F.name(),
-                format!("serializedState = NULL with size = {size}"),
-            );
-        };
-        out[..bytes.len()].copy_from_slice(&bytes);
-        out[bytes.len()..].fill(0);
-        Status::Ok
+    call(c, Function::SerializeFMUstate, |i, call| {
+        serialize_state(i, call, FMUstate, serializedState as *mut u8, size)
     })
 }
 
@@ -520,30 +439,8 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     size: usize,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    const F: Function = Function::DeSerializeFMUstate;
-    call(c, F, |inst, call| {
-        let Some(bytes) = array(serializedState as *const u8, size) else {
-            return inst.invalid_argument(
-                F.name(),
-                format!("serializedState = NULL with size = {size}"),
-            );
-        };
-        let Some(slot) = FMUstate.as_mut() else {
-            return inst
-                .invalid_argument(F.name(), "FMUstate = NULL: must point to an fmi2FMUstate");
-        };
-        let state = match inst.deserialize_fmu_state(call, bytes) {
-            Ok(s) => s,
-            Err(s) => return s,
-        };
-        if store(slot, state) {
-            Status::Ok
-        } else {
-            inst.invalid_argument(
-                F.name(),
-                "*FMUstate is neither NULL nor a state returned by this FMU",
-            )
-        }
+    call(c, Function::DeSerializeFMUstate, |i, call| {
+        deserialize_state(i, call, serializedState as *const u8, size, FMUstate)
     })
 }
 

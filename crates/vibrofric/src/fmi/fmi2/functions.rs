@@ -145,4 +145,9 @@ pub static WORDS: Vocabulary = Vocabulary {
     do_step: "fmi2DoStep",
     last_successful_time: "fmi2LastSuccessfulTime",
     false_: "fmi2False",
+    state_arg: "FMUstate",
+    state_type: "fmi2FMUstate",
+    get_state: "fmi2GetFMUstate",
+    deserialize_state: "fmi2DeSerializeFMUstate",
+    state_size: "fmi2SerializedFMUstateSize",
 };

@@ -18,8 +18,8 @@ use super::types::*;
 use super::Function;
 use crate::description::log::Category;
 use crate::fmi::c_boundary::{
-    array, array_mut, component, null, run, state_ref, store, string, Component, StateBox,
-    COMPONENT_MAGIC,
+    array, array_mut, component, deserialize_state, free_state, get_state, null, run,
+    serialize_state, set_state, state_size, string, Component, COMPONENT_MAGIC,
 };
 use crate::fmi::{Call, Instance, Logger, NoLogger, Status};
 
@@ -493,24 +493,8 @@ pub unsafe extern "C" fn fmi3GetFMUState(
     instance: fmi3Instance,
     FMUState: *mut fmi3FMUState,
 ) -> fmi3Status {
-    const F: Function = Function::GetFMUState;
-    call(instance, F, |inst, call| {
-        let Some(slot) = FMUState.as_mut() else {
-            return inst
-                .invalid_argument(F.name(), "FMUState = NULL: must point to an fmi3FMUState");
-        };
-        let state = match inst.get_fmu_state(call) {
-            Ok(s) => s,
-            Err(s) => return s,
-        };
-        if store(slot, state) {
-            Status::Ok
-        } else {
-            inst.invalid_argument(
-                F.name(),
-                "*FMUState is neither NULL nor a state returned by this FMU",
-            )
-        }
+    call(instance, Function::GetFMUState, |i, call| {
+        get_state(i, call, FMUState)
     })
 }
 
@@ -519,13 +503,8 @@ pub unsafe extern "C" fn fmi3SetFMUState(
     instance: fmi3Instance,
     FMUState: fmi3FMUState,
 ) -> fmi3Status {
-    const F: Function = Function::SetFMUState;
-    call(instance, F, |inst, call| match state_ref(FMUState) {
-        Some(b) => inst.set_fmu_state(call, &b.state),
-        None => inst.invalid_argument(
-            F.name(),
-            "FMUState is NULL or not a state returned by fmi3GetFMUState/fmi3DeserializeFMUState",
-        ),
+    call(instance, Function::SetFMUState, |i, call| {
+        set_state(i, call, FMUState)
     })
 }
 
@@ -534,30 +513,8 @@ pub unsafe extern "C" fn fmi3FreeFMUState(
     instance: fmi3Instance,
     FMUState: *mut fmi3FMUState,
 ) -> fmi3Status {
-    const F: Function = Function::FreeFMUState;
-    call(instance, F, |inst, call| {
-        let Some(slot) = FMUState.as_mut() else {
-            return inst
-                .invalid_argument(F.name(), "FMUState = NULL: must point to an fmi3FMUState");
-        };
-        let s = inst.allow_call(call);
-        if s != Status::Ok {
-            return s;
-        }
-        if slot.is_null() {
-            return Status::Ok;
-        }
-        match state_ref(*slot) {
-            Some(b) => {
-                b.magic = 0;
-                drop(Box::from_raw(b as *mut StateBox));
-                *slot = ptr::null_mut();
-                Status::Ok
-            }
-            None => {
-                inst.invalid_argument(F.name(), "*FMUState is not a state returned by this FMU")
-            }
-        }
+    call(instance, Function::FreeFMUState, |i, call| {
+        free_state(i, call, FMUState)
     })
 }
 
@@ -567,21 +524,8 @@ pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
     FMUState: fmi3FMUState,
     size: *mut usize,
 ) -> fmi3Status {
-    const F: Function = Function::SerializedFMUStateSize;
-    call(instance, F, |inst, call| {
-        let Some(b) = state_ref(FMUState) else {
-            return inst.invalid_argument(F.name(), "FMUState is NULL or not a state of this FMU");
-        };
-        let Some(size) = size.as_mut() else {
-            return inst.invalid_argument(F.name(), "size = NULL");
-        };
-        match inst.serialize_fmu_state(call, &b.state) {
-            Ok(bytes) => {
-                *size = bytes.len();
-                Status::Ok
-            }
-            Err(s) => s,
-        }
+    call(instance, Function::SerializedFMUStateSize, |i, call| {
+        state_size(i, call, FMUState, size)
     })
 }
 
@@ -592,33 +536,8 @@ pub unsafe extern "C" fn fmi3SerializeFMUState(
     serializedState: *mut fmi3Byte,
     size: usize,
 ) -> fmi3Status {
-    const F: Function = Function::SerializeFMUState;
-    call(instance, F, |inst, call| {
-        let Some(b) = state_ref(FMUState) else {
-            return inst.invalid_argument(F.name(), "FMUState is NULL or not a state of this FMU");
-        };
-        let bytes = match inst.serialize_fmu_state(call, &b.state) {
-            Ok(bytes) => bytes,
-            Err(s) => return s,
-        };
-        if size < bytes.len() {
-            return inst.invalid_argument(
-                F.name(),
-                format!(
-                    "size = {size}: the state needs {} bytes (fmi3SerializedFMUStateSize)",
-                    bytes.len()
-                ),
-            );
-        }
-        let Some(out) = array_mut(serializedState, size) else {
-            return inst.invalid_argument(
-                F.name(),
-                format!("serializedState = NULL with size = {size}"),
-            );
-        };
-        out[..bytes.len()].copy_from_slice(&bytes);
-        out[bytes.len()..].fill(0);
-        Status::Ok
+    call(instance, Function::SerializeFMUState, |i, call| {
+        serialize_state(i, call, FMUState, serializedState, size)
     })
 }
 
@@ -629,30 +548,8 @@ pub unsafe extern "C" fn fmi3DeserializeFMUState(
     size: usize,
     FMUState: *mut fmi3FMUState,
 ) -> fmi3Status {
-    const F: Function = Function::DeserializeFMUState;
-    call(instance, F, |inst, call| {
-        let Some(bytes) = array(serializedState, size) else {
-            return inst.invalid_argument(
-                F.name(),
-                format!("serializedState = NULL with size = {size}"),
-            );
-        };
-        let Some(slot) = FMUState.as_mut() else {
-            return inst
-                .invalid_argument(F.name(), "FMUState = NULL: must point to an fmi3FMUState");
-        };
-        let state = match inst.deserialize_fmu_state(call, bytes) {
-            Ok(s) => s,
-            Err(s) => return s,
-        };
-        if store(slot, state) {
-            Status::Ok
-        } else {
-            inst.invalid_argument(
-                F.name(),
-                "*FMUState is neither NULL nor a state returned by this FMU",
-            )
-        }
+    call(instance, Function::DeserializeFMUState, |i, call| {
+        deserialize_state(i, call, serializedState, size, FMUState)
     })
 }
 

@@ -125,4 +125,9 @@ pub static WORDS: Vocabulary = Vocabulary {
     do_step: "fmi3DoStep",
     last_successful_time: "lastSuccessfulTime of fmi3DoStep",
     false_: "fmi3False",
+    state_arg: "FMUState",
+    state_type: "fmi3FMUState",
+    get_state: "fmi3GetFMUState",
+    deserialize_state: "fmi3DeserializeFMUState",
+    state_size: "fmi3SerializedFMUStateSize",
 };
