@@ -13,7 +13,8 @@
 //! Scene reader: mutated standard scenes never panic; an accepted one exports a model
 //! description that is well-formed XML.
 //!
-//! CI runs a bounded campaign (`VIBROFRIC_FUZZ_CALLS`, default 300 000 calls, about a minute); a long one:
+//! CI runs a bounded campaign (`VIBROFRIC_FUZZ_CALLS`, default 300 000 FMI 2.0 calls, and
+//! `VIBROFRIC_FUZZ_CALLS3`, default 100 000 FMI 3.0 calls; under a minute); a long one:
 //! `VIBROFRIC_FUZZ_CALLS=5000000 VIBROFRIC_FUZZ_SEED=7 cargo test --release --test fuzz -- --nocapture`
 
 #[allow(unused_macros)]
@@ -48,6 +49,20 @@ impl Rng {
 }
 
 const CALL_BOUND: Duration = Duration::from_secs(10);
+
+/// The standard scenes.
+const FILES: [&str; 10] = [
+    "contact.toml",
+    "contact-lugre.toml",
+    "contact-dupont.toml",
+    "drill-string-axial.toml",
+    "drill-string-contact.toml",
+    "paper-longitudinal.toml",
+    "paper-transverse.toml",
+    "paper-transverse-guided.toml",
+    "rig-longitudinal.toml",
+    "rig-transverse.toml",
+];
 
 fn env_u64(name: &str, default: u64) -> u64 {
     std::env::var(name)
@@ -94,19 +109,7 @@ fn value(rng: &mut Rng, start: f64) -> f64 {
 fn c_api_call_sequences_keep_the_invariants() {
     let budget = env_u64("VIBROFRIC_FUZZ_CALLS", 300_000);
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
-    let files = [
-        "contact.toml",
-        "contact-lugre.toml",
-        "contact-dupont.toml",
-        "drill-string-axial.toml",
-        "drill-string-contact.toml",
-        "paper-longitudinal.toml",
-        "paper-transverse.toml",
-        "paper-transverse-guided.toml",
-        "rig-longitudinal.toml",
-        "rig-transverse.toml",
-    ];
-    let fmus: Vec<_> = files
+    let fmus: Vec<_> = FILES
         .iter()
         .map(|f| (load(f, &format!("fuzz-{f}")), scene(f)))
         .collect();
@@ -321,6 +324,175 @@ fn c_api_call_sequences_keep_the_invariants() {
     println!(
         "{calls} calls (seed {seed}): {} OK, {} warning, {} discard, {} error; slowest {:?} ({})",
         by_status[0], by_status[1], by_status[2], by_status[3], slowest.0, slowest.1
+    );
+}
+
+/// The same campaign on the FMI 3.0 functions of the same library: random sequences of
+/// initialization, `Float64` sets (edge values, unknown value references), steps (bad sizes,
+/// wrong points), FMU states (corrupted serialized bytes), terminate and reset, with the same
+/// oracle. Budget `VIBROFRIC_FUZZ_CALLS3` (default 100 000).
+#[test]
+fn fmi3_call_sequences_keep_the_invariants() {
+    let budget = env_u64("VIBROFRIC_FUZZ_CALLS3", 100_000);
+    let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
+    let fmus: Vec<_> = FILES
+        .iter()
+        .map(|f| (load3(f, &format!("fuzz3-{f}")), scene(f)))
+        .collect();
+    let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 3 | 1);
+    let (mut calls, mut by_status) = (0u64, [0u64; 4]);
+    while calls < budget {
+        let (fmu, sc) = &fmus[rng.below(fmus.len())];
+        let vrs = all_vrs(sc);
+        let starts: Vec<f64> = sc
+            .variables()
+            .map(|v| sc.start_of(v).unwrap_or(1.0))
+            .collect();
+        let mut inst = fmu.instantiate("fuzz3").unwrap();
+        let init = |inst: &mut vibrofric_import::fmi3::Instance3| {
+            inst.enter_initialization_mode(Some(1e-6), 0.0, None);
+            inst.exit_initialization_mode();
+        };
+        if rng.below(4) != 0 {
+            init(&mut inst);
+        }
+        let mut t = 0.0;
+        let (mut states, mut saved) = (vec![], vec![]);
+        for _ in 0..rng.below(200) + 1 {
+            calls += 1;
+            let before = inst.get_f64(&vrs).ok();
+            let op = rng.pick(&[0, 1, 2, 2, 3, 3, 3, 4, 5, 6, 7, 8, 2, 3]);
+            let started = Instant::now();
+            let (status, what) = match op {
+                0 => {
+                    let tol = rng.pick(&[Some(1e-6), Some(5e-324), None, Some(f64::NAN)]);
+                    let t0 = rng.pick(&[0.0, 1e9, f64::NAN]);
+                    t = t0;
+                    (
+                        inst.enter_initialization_mode(tol, t0, None),
+                        format!("enter init {tol:?} {t0}"),
+                    )
+                }
+                1 => (inst.exit_initialization_mode(), "exit init".into()),
+                2 => {
+                    let k = rng.below(vrs.len() + 1);
+                    let (vr, x) = if k == vrs.len() {
+                        (rng.pick(&[0u32, 99, 300, u32::MAX]), 1.0)
+                    } else {
+                        (vrs[k], value(&mut rng, starts[k]))
+                    };
+                    (inst.set_f64(&[vr], &[x]), format!("set vr {vr} = {x:e}"))
+                }
+                3 => {
+                    let h = rng.pick(&[1e-3, 1e-4, 1e-2, 0.0, -1e-3, f64::NAN]);
+                    let current = if rng.below(8) == 0 { t + 1.0 } else { t };
+                    let (s, _) = inst.do_step(current, h);
+                    if s == Status::Ok {
+                        t = current + h;
+                    }
+                    (s, format!("do_step {current} {h:e}"))
+                }
+                4 => match inst.get_state() {
+                    Ok(st) => {
+                        states.push(st);
+                        (Status::Ok, "get state".into())
+                    }
+                    Err(s) => (s, "get state".into()),
+                },
+                5 if !states.is_empty() => {
+                    let k = rng.below(states.len());
+                    match rng.below(2) {
+                        0 => (inst.set_state(&states[k]), "set state".into()),
+                        _ => match inst.serialize_state(&states[k]) {
+                            Ok(b) => {
+                                saved.push(b);
+                                (Status::Ok, "serialize".into())
+                            }
+                            Err(s) => (s, "serialize".into()),
+                        },
+                    }
+                }
+                6 if !saved.is_empty() => {
+                    let mut b: Vec<u8> = saved[rng.below(saved.len())].clone();
+                    match rng.below(3) {
+                        0 => {
+                            let i = rng.below(b.len());
+                            b[i] ^= 1 << rng.below(8);
+                        }
+                        1 => b.truncate(rng.below(b.len())),
+                        _ => {}
+                    }
+                    match inst.deserialize_state(&b) {
+                        Ok(st) => (inst.set_state(&st), "deserialize + set".into()),
+                        Err(s) => (s, "deserialize".into()),
+                    }
+                }
+                7 => (inst.terminate(), "terminate".into()),
+                8 => {
+                    t = 0.0;
+                    (inst.reset(), "reset".into())
+                }
+                _ => (
+                    inst.get_f64(&vrs).map_or_else(|s| s, |_| Status::Ok),
+                    "get".into(),
+                ),
+            };
+            let took = started.elapsed();
+            assert!(
+                took < CALL_BOUND,
+                "{}: {what} took {took:?}",
+                sc.model_identifier
+            );
+            assert!(
+                matches!(
+                    status,
+                    Status::Ok | Status::Warning | Status::Discard | Status::Error
+                ),
+                "{}: {what} returned {status:?}",
+                sc.model_identifier
+            );
+            by_status[(status as usize).min(3)] += 1;
+            let after = inst.get_f64(&vrs);
+            if let Ok(values) = &after {
+                assert!(
+                    values.iter().all(|x| x.is_finite()),
+                    "{}: after {what}, a non-finite value with fmi3OK",
+                    sc.model_identifier
+                );
+            }
+            let refused = matches!(status, Status::Error | Status::Discard);
+            if refused && !matches!(op, 5 | 6 | 8) {
+                if let (Some(b), Ok(a)) = (&before, &after) {
+                    assert_eq!(
+                        bits(b),
+                        bits(a),
+                        "{}: {what} was refused but changed values",
+                        sc.model_identifier
+                    );
+                }
+            }
+            if status == Status::Error {
+                let s = inst.reset();
+                assert_eq!(
+                    s,
+                    Status::Ok,
+                    "{}: reset after {what}: {}",
+                    sc.model_identifier,
+                    inst.last_message()
+                );
+                t = 0.0;
+                if rng.below(4) != 0 {
+                    init(&mut inst);
+                }
+            }
+        }
+        for st in states {
+            inst.free_state(st);
+        }
+    }
+    println!(
+        "FMI 3.0: {calls} calls (seed {seed}): {} OK, {} warning, {} discard, {} error",
+        by_status[0], by_status[1], by_status[2], by_status[3]
     );
 }
 

@@ -92,6 +92,38 @@ pub fn unpack(dir: &Path, text: &str) -> Scene {
     scene
 }
 
+/// Loads the FMI 3.0 edition of a standard scene's FMU, unpacked in a temporary folder
+/// (`binaries/<arch>-<os>/<id>.so` a link to this build's cdylib).
+pub fn load3(file: &str, tag: &str) -> vibrofric_import::fmi3::Fmu3 {
+    let dir = temp(tag);
+    let text = scene_text(file);
+    let scene = unpack(&dir, &text);
+    std::fs::write(
+        dir.join("modelDescription.xml"),
+        vibrofric::description::xml3::model_description(&scene),
+    )
+    .unwrap();
+    let os = match std::env::consts::OS {
+        "macos" => "darwin",
+        os => os,
+    };
+    let bin = dir
+        .join("binaries")
+        .join(format!("{}-{os}", std::env::consts::ARCH));
+    std::fs::create_dir_all(&bin).unwrap();
+    let so = bin.join(format!(
+        "{}.{}",
+        scene.model_identifier,
+        std::env::consts::DLL_EXTENSION
+    ));
+    let _ = std::fs::remove_file(&so);
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(library(), &so).unwrap();
+    #[cfg(not(unix))]
+    std::fs::copy(library(), &so).unwrap();
+    vibrofric_import::fmi3::Fmu3::load(&dir).unwrap()
+}
+
 /// Loads the FMU of a standard scene (`scenes/<file>`), unpacked in a temporary folder.
 pub fn load(file: &str, tag: &str) -> Fmu {
     let dir = temp(tag);

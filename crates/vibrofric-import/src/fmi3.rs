@@ -1,7 +1,6 @@
-//! FMI 3.0 Co-Simulation, enough to run an FMU through the same steps as
-//! [`Fmu::simulate`](crate::Fmu::simulate): load, instantiate (no event mode), initialize, set
-//! `Float64` inputs, step, read `Float64` outputs. The exporter's self-check runs every FMI 3.0
-//! FMU it writes through it.
+//! FMI 3.0 Co-Simulation: load an FMU, instantiate it (no event mode) and drive it through a
+//! safe API (initialization, `Float64` get/set, steps, FMU states), as [`crate::Fmu`] does for
+//! FMI 2.0. The exporter's self-check and the fuzz tests run every FMI 3.0 FMU through it.
 
 use std::ffi::{c_void, CStr, CString};
 use std::os::raw::c_char;
@@ -11,7 +10,7 @@ use std::sync::Mutex;
 
 use libloading::Library;
 
-use crate::{err, unpack, Description, ImportError};
+use crate::{err, status, unpack, Description, ImportError, Status};
 
 type LogCallback = unsafe extern "C" fn(*mut c_void, i32, *const c_char, *const c_char);
 type Instantiate = unsafe extern "C" fn(
@@ -43,6 +42,11 @@ type DoStep = unsafe extern "C" fn(
     *mut bool,
     *mut f64,
 ) -> i32;
+type GetState = unsafe extern "C" fn(*mut c_void, *mut *mut c_void) -> i32;
+type SetState = unsafe extern "C" fn(*mut c_void, *mut c_void) -> i32;
+type StateSize = unsafe extern "C" fn(*mut c_void, *mut c_void, *mut usize) -> i32;
+type Serialize = unsafe extern "C" fn(*mut c_void, *mut c_void, *mut u8, usize) -> i32;
+type Deserialize = unsafe extern "C" fn(*mut c_void, *const u8, usize, *mut *mut c_void) -> i32;
 
 /// The log lines of one instance, reached through its environment pointer.
 type Log = Mutex<Vec<String>>;
@@ -112,42 +116,33 @@ impl Fmu3 {
             .map_err(|e| ImportError(format!("{name}: {e}")))
     }
 
-    /// Runs from 0 to `stop` in steps of `step` (the last one shortened to end on `stop`) with
-    /// `inputs` set before initialization; returns `[t, outputs...]` at the start and after
-    /// every step.
-    pub fn simulate(
-        &self,
-        stop: f64,
-        step: f64,
-        inputs: &[(u32, f64)],
-        outputs: &[u32],
-    ) -> Result<Vec<Vec<f64>>, ImportError> {
-        let instantiate: Instantiate = self.function("fmi3InstantiateCoSimulation")?;
-        let enter: EnterInit = self.function("fmi3EnterInitializationMode")?;
-        let exit: Unary = self.function("fmi3ExitInitializationMode")?;
-        let set: SetF64 = self.function("fmi3SetFloat64")?;
-        let get: GetF64 = self.function("fmi3GetFloat64")?;
-        let do_step: DoStep = self.function("fmi3DoStep")?;
-        let free: Free = self.function("fmi3FreeInstance")?;
-        let log: Box<Log> = Box::default();
-        let text = |s: &str| CString::new(s).map_err(|_| ImportError(format!("{s:?}: NUL")));
-        let name = text("simulate")?;
-        let token = text(&self.description.guid)?;
-        let resources = text(&format!("{}/", self.dir.join("resources").display()))?;
-        let last = |what: &str, s: i32| -> Result<(), ImportError> {
-            if s <= 1 {
-                return Ok(());
-            }
-            let msg = log.lock().ok().and_then(|l| l.last().cloned());
-            err(format!(
-                "{what} returned status {s}: {}",
-                msg.unwrap_or_default()
-            ))
+    /// A Co-Simulation instance (no event mode) with the FMU's token and resources.
+    pub fn instantiate(&self, name: &str) -> Result<Instance3<'_>, ImportError> {
+        let f = Functions {
+            instantiate: self.function("fmi3InstantiateCoSimulation")?,
+            free: self.function("fmi3FreeInstance")?,
+            enter: self.function("fmi3EnterInitializationMode")?,
+            exit: self.function("fmi3ExitInitializationMode")?,
+            terminate: self.function("fmi3Terminate")?,
+            reset: self.function("fmi3Reset")?,
+            set: self.function("fmi3SetFloat64")?,
+            get: self.function("fmi3GetFloat64")?,
+            do_step: self.function("fmi3DoStep")?,
+            get_state: self.function("fmi3GetFMUState")?,
+            set_state: self.function("fmi3SetFMUState")?,
+            free_state: self.function("fmi3FreeFMUState")?,
+            state_size: self.function("fmi3SerializedFMUStateSize")?,
+            serialize: self.function("fmi3SerializeFMUState")?,
+            deserialize: self.function("fmi3DeserializeFMUState")?,
         };
-        // SAFETY: every pointer passed lives until the call returns (the log until the
-        // instance is freed below); the arrays have the lengths passed with them.
-        unsafe {
-            let inst = instantiate(
+        let text = |s: &str| CString::new(s).map_err(|_| ImportError(format!("{s:?}: NUL")));
+        let (name, token) = (text(name)?, text(&self.description.guid)?);
+        let resources = text(&format!("{}/", self.dir.join("resources").display()))?;
+        let log: Box<Log> = Box::default();
+        // SAFETY: the strings live until the call returns; the log lives in the instance, which
+        // frees the FMU's instance before dropping it.
+        let raw = unsafe {
+            (f.instantiate)(
                 name.as_ptr(),
                 token.as_ptr(),
                 resources.as_ptr(),
@@ -160,56 +155,216 @@ impl Fmu3 {
                 &*log as *const Log as *mut c_void,
                 Some(log_message),
                 ptr::null_mut(),
-            );
-            if inst.is_null() {
-                last("fmi3InstantiateCoSimulation", 3)?;
-                return err("fmi3InstantiateCoSimulation returned NULL");
-            }
-            let run = || -> Result<Vec<Vec<f64>>, ImportError> {
-                last(
-                    "fmi3EnterInitializationMode",
-                    enter(inst, false, 0.0, 0.0, true, stop),
-                )?;
-                let (vrs, vals): (Vec<u32>, Vec<f64>) = inputs.iter().copied().unzip();
-                last(
-                    "fmi3SetFloat64",
-                    set(inst, vrs.as_ptr(), vrs.len(), vals.as_ptr(), vals.len()),
-                )?;
-                last("fmi3ExitInitializationMode", exit(inst))?;
-                // The points and steps of `Fmu::simulate`, so that both editions compare.
-                let n = (stop / step).round().max(1.0) as u64;
-                let mut rows = vec![];
-                let mut t = 0.0;
-                for k in 0..=n {
-                    let mut row = vec![0.0; outputs.len()];
-                    last(
-                        "fmi3GetFloat64",
-                        get(
-                            inst,
-                            outputs.as_ptr(),
-                            outputs.len(),
-                            row.as_mut_ptr(),
-                            row.len(),
-                        ),
-                    )?;
-                    row.insert(0, t);
-                    rows.push(row);
-                    if k == n {
-                        break;
-                    }
-                    let h = if k + 1 == n { stop - t } else { step };
-                    let (mut a, mut b, mut c, mut at) = (false, false, false, 0.0);
-                    last(
-                        "fmi3DoStep",
-                        do_step(inst, t, h, false, &mut a, &mut b, &mut c, &mut at),
-                    )?;
-                    t = if k + 1 == n { stop } else { t + h };
-                }
-                Ok(rows)
-            };
-            let result = run();
-            free(inst);
-            result
+            )
+        };
+        if raw.is_null() {
+            let msg = log.lock().ok().and_then(|l| l.last().cloned());
+            return err(format!(
+                "fmi3InstantiateCoSimulation returned NULL: {}",
+                msg.unwrap_or_default()
+            ));
         }
+        Ok(Instance3 {
+            f,
+            raw,
+            log,
+            _fmu: std::marker::PhantomData,
+        })
+    }
+
+    /// Runs from 0 to `stop` in steps of `step` (the last one shortened to end on `stop`) with
+    /// `inputs` set in initialization mode; returns `[t, outputs...]` at the start and after
+    /// every step: the points and steps of [`crate::Fmu::simulate`], so that both editions
+    /// compare.
+    pub fn simulate(
+        &self,
+        stop: f64,
+        step: f64,
+        inputs: &[(u32, f64)],
+        outputs: &[u32],
+    ) -> Result<Vec<Vec<f64>>, ImportError> {
+        let mut inst = self.instantiate("simulate")?;
+        let check = |inst: &Instance3, s: Status, what: &str| -> Result<(), ImportError> {
+            if s <= Status::Warning {
+                Ok(())
+            } else {
+                err(format!("{what} returned {s:?}: {}", inst.last_message()))
+            }
+        };
+        let s = inst.enter_initialization_mode(None, 0.0, Some(stop));
+        check(&inst, s, "fmi3EnterInitializationMode")?;
+        let (vrs, vals): (Vec<u32>, Vec<f64>) = inputs.iter().copied().unzip();
+        let s = inst.set_f64(&vrs, &vals);
+        check(&inst, s, "fmi3SetFloat64")?;
+        let s = inst.exit_initialization_mode();
+        check(&inst, s, "fmi3ExitInitializationMode")?;
+        let n = (stop / step).round().max(1.0) as u64;
+        let mut rows = vec![];
+        let mut t = 0.0;
+        for k in 0..=n {
+            let y = inst.get_f64(outputs).map_err(|s| {
+                ImportError(format!(
+                    "fmi3GetFloat64 returned {s:?}: {}",
+                    inst.last_message()
+                ))
+            })?;
+            let mut row = vec![t];
+            row.extend(y);
+            rows.push(row);
+            if k == n {
+                break;
+            }
+            let h = if k + 1 == n { stop - t } else { step };
+            let (s, _) = inst.do_step(t, h);
+            check(&inst, s, "fmi3DoStep")?;
+            t = if k + 1 == n { stop } else { t + h };
+        }
+        Ok(rows)
+    }
+}
+
+/// The FMI 3.0 functions an instance calls.
+struct Functions {
+    instantiate: Instantiate,
+    free: Free,
+    enter: EnterInit,
+    exit: Unary,
+    terminate: Unary,
+    reset: Unary,
+    set: SetF64,
+    get: GetF64,
+    do_step: DoStep,
+    get_state: GetState,
+    set_state: SetState,
+    free_state: GetState,
+    state_size: StateSize,
+    serialize: Serialize,
+    deserialize: Deserialize,
+}
+
+/// An FMI 3.0 Co-Simulation instance; freed when dropped.
+pub struct Instance3<'a> {
+    f: Functions,
+    raw: *mut c_void,
+    log: Box<Log>,
+    _fmu: std::marker::PhantomData<&'a Fmu3>,
+}
+
+/// An FMU state of an [`Instance3`].
+pub struct State3(*mut c_void);
+
+impl Instance3<'_> {
+    /// The last message the instance logged.
+    pub fn last_message(&self) -> String {
+        self.log
+            .lock()
+            .ok()
+            .and_then(|l| l.last().cloned())
+            .unwrap_or_default()
+    }
+
+    // SAFETY (every method below): `raw` is a live instance of the library the functions come
+    // from, and every array passed has the length passed with it.
+
+    pub fn enter_initialization_mode(
+        &mut self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Status {
+        let (tol, stop_time) = (tolerance.unwrap_or(0.0), stop.unwrap_or(0.0));
+        status(unsafe {
+            (self.f.enter)(
+                self.raw,
+                tolerance.is_some(),
+                tol,
+                start,
+                stop.is_some(),
+                stop_time,
+            )
+        })
+    }
+
+    pub fn exit_initialization_mode(&mut self) -> Status {
+        status(unsafe { (self.f.exit)(self.raw) })
+    }
+
+    pub fn terminate(&mut self) -> Status {
+        status(unsafe { (self.f.terminate)(self.raw) })
+    }
+
+    pub fn reset(&mut self) -> Status {
+        status(unsafe { (self.f.reset)(self.raw) })
+    }
+
+    pub fn set_f64(&mut self, vrs: &[u32], values: &[f64]) -> Status {
+        let n = vrs.len().min(values.len());
+        status(unsafe { (self.f.set)(self.raw, vrs.as_ptr(), n, values.as_ptr(), n) })
+    }
+
+    pub fn get_f64(&mut self, vrs: &[u32]) -> Result<Vec<f64>, Status> {
+        let mut v = vec![0.0; vrs.len()];
+        match status(unsafe {
+            (self.f.get)(self.raw, vrs.as_ptr(), vrs.len(), v.as_mut_ptr(), v.len())
+        }) {
+            Status::Ok | Status::Warning => Ok(v),
+            s => Err(s),
+        }
+    }
+
+    /// A step; the status and `lastSuccessfulTime`.
+    pub fn do_step(&mut self, current: f64, step: f64) -> (Status, f64) {
+        let (mut a, mut b, mut c, mut last) = (false, false, false, f64::NAN);
+        let s = unsafe {
+            (self.f.do_step)(
+                self.raw, current, step, false, &mut a, &mut b, &mut c, &mut last,
+            )
+        };
+        (status(s), last)
+    }
+
+    pub fn get_state(&mut self) -> Result<State3, Status> {
+        let mut s = ptr::null_mut();
+        match status(unsafe { (self.f.get_state)(self.raw, &mut s) }) {
+            Status::Ok => Ok(State3(s)),
+            st => Err(st),
+        }
+    }
+
+    pub fn set_state(&mut self, state: &State3) -> Status {
+        status(unsafe { (self.f.set_state)(self.raw, state.0) })
+    }
+
+    pub fn free_state(&mut self, mut state: State3) -> Status {
+        status(unsafe { (self.f.free_state)(self.raw, &mut state.0) })
+    }
+
+    pub fn serialize_state(&mut self, state: &State3) -> Result<Vec<u8>, Status> {
+        let mut size = 0;
+        let s = status(unsafe { (self.f.state_size)(self.raw, state.0, &mut size) });
+        if s != Status::Ok {
+            return Err(s);
+        }
+        let mut bytes = vec![0u8; size];
+        match status(unsafe { (self.f.serialize)(self.raw, state.0, bytes.as_mut_ptr(), size) }) {
+            Status::Ok => Ok(bytes),
+            s => Err(s),
+        }
+    }
+
+    pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<State3, Status> {
+        let mut s = ptr::null_mut();
+        match status(unsafe { (self.f.deserialize)(self.raw, bytes.as_ptr(), bytes.len(), &mut s) })
+        {
+            Status::Ok => Ok(State3(s)),
+            st => Err(st),
+        }
+    }
+}
+
+impl Drop for Instance3<'_> {
+    fn drop(&mut self) {
+        // SAFETY: the instance is live and freed once; the log it writes to outlives the call.
+        unsafe { (self.f.free)(self.raw) }
     }
 }
