@@ -159,6 +159,18 @@ def test_serialized_state_continues_bit_for_bit_in_a_fresh_instance(slave3):
         b.deserializeFMUState(blob[:-1])
 
 
+def test_time_is_the_independent_variable(slave3, capfd):
+    make, vr, outputs, _ = slave3
+    fmu = make("time")
+    start(fmu)
+    _, t = run(fmu, vr, outputs, 0.0, 3)
+    assert fmu.getFloat64([0, vr["x"]])[0] == t
+    capfd.readouterr()
+    with pytest.raises(FMICallException):
+        fmu.setFloat64([0], [1.0])
+    assert "independent variable" in capfd.readouterr().out
+
+
 def test_output_derivatives_match_the_fmi2_edition(slave3):
     make, vr, outputs, _ = slave3
     fmu = make("der")

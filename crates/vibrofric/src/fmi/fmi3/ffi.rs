@@ -17,6 +17,7 @@ use std::ptr;
 use super::types::*;
 use super::Function;
 use crate::description::log::Category;
+use crate::description::xml3::TIME_VR;
 use crate::fmi::c_boundary::{
     array, array_mut, component, deserialize_state, free_state, get_state, null, run,
     serialize_state, set_state, state_size, string, Component, COMPONENT_MAGIC,
@@ -324,7 +325,30 @@ pub unsafe extern "C" fn fmi3GetFloat64(
         let Some(values) = array_mut(values, nValues) else {
             return null(inst, F.name(), "values", nValues);
         };
-        inst.get_real(call, vrs, values)
+        if !vrs.contains(&TIME_VR) {
+            return inst.get_real(call, vrs, values);
+        }
+        // The independent variable `time` is FMI 3.0's alone: the instance's time.
+        let (others, slots): (Vec<u32>, Vec<usize>) = vrs
+            .iter()
+            .enumerate()
+            .filter(|(_, &vr)| vr != TIME_VR)
+            .map(|(k, &vr)| (vr, k))
+            .unzip();
+        let mut got = vec![0.0; others.len()];
+        let s = inst.get_real(call, &others, &mut got);
+        if s > Status::Warning {
+            return s;
+        }
+        for (k, &vr) in vrs.iter().enumerate() {
+            if vr == TIME_VR {
+                values[k] = inst.time();
+            }
+        }
+        for (x, k) in got.into_iter().zip(slots) {
+            values[k] = x;
+        }
+        s
     })
 }
 
@@ -347,6 +371,12 @@ pub unsafe extern "C" fn fmi3SetFloat64(
         let Some(values) = array(values, nValues) else {
             return null(inst, F.name(), "values", nValues);
         };
+        if vrs.contains(&TIME_VR) {
+            return inst.invalid_argument(
+                F.name(),
+                format!("time (vr {TIME_VR}) is the independent variable: it advances with fmi3DoStep and cannot be set"),
+            );
+        }
         inst.set_real(call, vrs, values)
     })
 }
