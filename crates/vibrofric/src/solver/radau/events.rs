@@ -1,7 +1,8 @@
 //! Switching events: sign changes of the system's switching functions (kinks of the
 //! right-hand side, such as `|v_r|` at `v_r = 0`) located on the collocation polynomial of the
 //! attempted step, so that the step can be retaken to end on them. A sign change within
-//! `rtol·scale` of zero is no event (a stuck contact hovers there).
+//! `rtol·scale` of zero is no event (a stuck contact hovers there). The dense output is the
+//! collocation polynomial of Hairer & Wanner, *Solving ODEs II*, §IV.8 (RADAU5's `CONTR5`).
 
 use nalgebra::SVector;
 
@@ -10,6 +11,21 @@ use super::Radau5;
 use crate::solver::system::{OdeSystem, Quad, MAX_SWITCH};
 
 impl<const N: usize> Radau5<N> {
+    /// At the start of a call: the side of each switching function, where it is known (a
+    /// function within `rtol·scale` of zero keeps the side it had; zero counts as the positive
+    /// side until the function leaves it).
+    pub(super) fn init_switch_signs<S: OdeSystem<N>>(&mut self, sys: &S, n_switch: usize) {
+        let band = sys.switch_scale().map(|v| self.rtol * v);
+        if n_switch > 0 {
+            let g = sys.switch(self.t, &self.y);
+            for k in 0..n_switch {
+                if self.switch_sign[k] == 0.0 || g[k].abs() > band[k] {
+                    self.switch_sign[k] = if g[k] < 0.0 { -1.0 } else { 1.0 };
+                }
+            }
+        }
+    }
+
     /// Evaluates the dense output of a step ending in `y_new` at fraction `theta` of it.
     pub(super) fn dense(
         y_new: &SVector<f64, N>,

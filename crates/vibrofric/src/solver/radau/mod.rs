@@ -178,16 +178,7 @@ impl<const N: usize> Radau5<N> {
         let nominal = sys.scale();
         let q_scale = sys.quadrature_scale();
         let n_switch = sys.n_switch().min(MAX_SWITCH);
-        let band = sys.switch_scale().map(|v| self.rtol * v);
-        if n_switch > 0 {
-            let g = sys.switch(self.t, &self.y);
-            for k in 0..n_switch {
-                if self.switch_sign[k] == 0.0 || g[k].abs() > band[k] {
-                    // Zero counts as the positive side until the function leaves it.
-                    self.switch_sign[k] = if g[k] < 0.0 { -1.0 } else { 1.0 };
-                }
-            }
-        }
+        self.init_switch_signs(sys, n_switch);
         let mut f0 = sys.rhs(self.t, &self.y);
         let mut q0 = sys.quadrature(self.t, &self.y);
         self.stats.rhs_evals += 1;
