@@ -99,8 +99,9 @@ pub fn decode(bytes: &[u8]) -> Result<FmuState, String> {
             bytes.len() - end - 8
         ));
     }
-    // postcard reads lengths from the payload but never allocates past what the payload can
-    // hold (serde caps preallocation), and refuses a payload with bytes left over.
+    // A crafted length cannot allocate much: postcard checks a string's length against the
+    // bytes left, and serde caps a vector's preallocation (1 MiB) whatever length it reads;
+    // bytes left over after the state are refused below.
     let (s, rest): (FmuState, &[u8]) = postcard::take_from_bytes(payload)
         .map_err(|e| format!("the serialized state's payload does not read: {e}"))?;
     if !rest.is_empty() {
