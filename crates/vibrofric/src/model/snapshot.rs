@@ -82,10 +82,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 ));
             }
         }
+        // rem_euclid by 2 pi, which sets the reference, rounds a tiny negative phase to 2 pi
+        // itself: the closed interval.
         let theta_ref = s.harmonic_theta_ref;
         if !(0.0..=std::f64::consts::TAU).contains(&theta_ref) {
             return bad(format!(
-                "harmonic phase reference = {theta_ref}: must be in [0, 2 pi)"
+                "harmonic phase reference = {theta_ref}: must be in [0, 2 pi]"
             ));
         }
         let radau = Radau5::<N>::load(&s.integrator)
