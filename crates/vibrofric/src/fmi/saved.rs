@@ -31,8 +31,9 @@ pub struct FmuState {
 }
 
 const MAGIC: &[u8; 16] = b"vibrofric-state\0";
-/// 4: postcard payload with the contact's named state (3: hand-written layout).
-const FORMAT_VERSION: u32 = 4;
+/// 5: with Model Exchange's event-indicator sides (4: postcard payload with the contact's
+/// named state; 3: hand-written layout).
+const FORMAT_VERSION: u32 = 5;
 
 /// FNV-1a, 64 bit: detects a corrupted or truncated byte string.
 fn checksum(b: &[u8]) -> u64 {

@@ -53,6 +53,9 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     pub(super) epoch: f64,
     /// The current time as the importer gave it.
     pub(super) t_abs: f64,
+    /// Model Exchange: the side of each switching function since the last event (0: not yet
+    /// known), for the event indicators' hysteresis (`exchange.rs`).
+    pub(super) sides: [f64; MAX_SWITCH],
 }
 
 /// Builds the contact with state dimension `N` (checked against the types).
@@ -123,6 +126,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             step: StepMean::NONE,
             epoch: 0.0,
             t_abs: 0.0,
+            sides: [0.0; MAX_SWITCH],
         };
         c.window.len = c.window_length();
         c.update_scale();
@@ -170,7 +174,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             .scale(x_nom, v_nom, &mut self.scale[V::DIM..]);
     }
 
-    fn system(&self) -> System<'_, V, L, D> {
+    pub(super) fn system(&self) -> System<'_, V, L, D> {
         System::new(
             &self.dynamics,
             self.config.input_support,
@@ -393,7 +397,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         Ok(())
     }
 
-    fn f_mean(&self) -> f64 {
+    pub(super) fn f_mean(&self) -> f64 {
         if let Some(m) = self.window.last {
             return m;
         }

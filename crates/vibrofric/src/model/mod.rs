@@ -14,12 +14,15 @@
 //! - `window.rs`: the running means (`F_mean` over averaging windows, the step means);
 //! - `time.rs`: communication points as importers compute them, and time limits;
 //! - `exact.rs`: the closed-form path (longitudinal Dahl under velocity drive);
-//! - `ode.rs`: the equations as a plain ODE for other integrators.
+//! - `ode.rs`: the equations as a plain ODE for other integrators;
+//! - `exchange.rs`: the contact for an importer's integrator (Model Exchange): states,
+//!   derivatives, event indicators and updates, directional derivatives.
 
 mod contact;
 mod drive;
 mod dynamics;
 mod exact;
+mod exchange;
 mod ode;
 mod simulator;
 mod snapshot;
@@ -27,7 +30,10 @@ mod state;
 mod time;
 mod window;
 
-pub use crate::table::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId, Outputs};
+pub use crate::table::{
+    Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId, Outputs, StateId,
+};
+pub use exchange::{EventUpdate, Exchange, StateVector};
 pub use ode::Ode;
 pub use simulator::{Path, SimError, Simulator, StepStats, TOLERANCE_RANGE};
 pub use state::{ContactState, StepMeanState, WindowState};

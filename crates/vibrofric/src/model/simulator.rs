@@ -1,5 +1,6 @@
 //! The object-safe face of a contact: what the FMU layer and the tests step.
 
+use super::exchange::Exchange;
 use super::ode::Ode;
 use super::state::ContactState;
 use super::time::MAX_INPUT_RATE;
@@ -30,6 +31,8 @@ pub enum SimError {
     Solver(SolverError),
     /// A saved state that does not belong to this configuration.
     BadSnapshot(String),
+    /// A continuous state set by a Model Exchange importer that is not finite.
+    State { name: &'static str, value: f64 },
 }
 
 impl std::fmt::Display for SimError {
@@ -66,6 +69,9 @@ impl std::fmt::Display for SimError {
             SimError::Tolerance(t) => write!(f, "tolerance = {t}: must be finite and > 0"),
             SimError::Solver(e) => write!(f, "{e}"),
             SimError::BadSnapshot(why) => write!(f, "state does not fit this instance: {why}"),
+            SimError::State { name, value } => {
+                write!(f, "{name} = {value}: a continuous state must be finite")
+            }
         }
     }
 }
@@ -95,7 +101,7 @@ pub struct StepStats {
 
 /// A contact that can be stepped in time. Every method that returns an error leaves the
 /// simulator exactly as it was.
-pub trait Simulator: Send {
+pub trait Simulator: Send + Exchange {
     fn config(&self) -> Config;
     fn params(&self) -> &Params;
     /// Changes a parameter during the simulation. Only the parameters for which

@@ -46,6 +46,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             lifted: self.dynamics.lifted,
             epoch: self.epoch,
             t_abs: self.t_abs,
+            sides: self.sides,
         }
     }
 
@@ -157,6 +158,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             f_start: s.step_mean.f_start,
         };
         c.dynamics.lifted = s.lifted;
+        if let Some(x) = s.sides.iter().find(|x| ![-1.0, 0.0, 1.0].contains(*x)) {
+            return bad(format!("event indicator side = {x}: must be -1, 0 or 1"));
+        }
+        c.sides = s.sides;
         c.update_scale();
         Ok(c)
     }

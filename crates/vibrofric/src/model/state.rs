@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::physics::{InputTrack, Params};
-use crate::solver::MAX_QUAD;
+use crate::solver::{MAX_QUAD, MAX_SWITCH};
 use crate::table::{Config, InputId};
 
 /// Everything a contact needs to continue bit for bit.
@@ -32,6 +32,9 @@ pub struct ContactState {
     /// gave it.
     pub epoch: f64,
     pub t_abs: f64,
+    /// Model Exchange: the side of each switching function since the last event (−1, +1; 0
+    /// before the first event update).
+    pub sides: [f64; MAX_SWITCH],
 }
 
 /// The averaging window of `F_mean`.

@@ -166,6 +166,11 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn linear<V: Vector>(&self, _vr: V) -> Option<Linear<V>> {
         None
     }
+    /// The viscous coefficient `h_v` of a force term `h_v·v_r` (LuGre), 0 for laws without one:
+    /// the only term of the force that does not scale with the normal load.
+    fn viscous(&self) -> f64 {
+        0.0
+    }
 }
 
 /// Dahl (`docs/model.md`, Eqs. 1, 3 with gamma = 1).
@@ -443,6 +448,10 @@ impl FrictionLaw for LuGre {
     #[inline(always)]
     fn dissipation<V: Vector>(&self, s: V, vr: V, ds: V) -> f64 {
         self.force(s, vr, ds).dot(vr) - self.k_t * s.dot(ds)
+    }
+
+    fn viscous(&self) -> f64 {
+        self.h_v
     }
 
     fn bound(&self) -> Option<f64> {

@@ -5,19 +5,23 @@
 //! - `table.rs`: every parameter, input and output declared once (expanded by `declare.rs`
 //!   into [`Params`], [`Inputs`], [`Outputs`] and their ids);
 //! - `rule.rs`: the accepted ranges ([`Rule`]) and the error naming a broken one;
-//! - `dependencies.rs`: what each kind of output depends on ([`Depends`]).
+//! - `dependencies.rs`: what each kind of output depends on ([`Depends`]);
+//! - `states.rs`: the continuous states of Model Exchange ([`StateId`]) and what their
+//!   derivatives depend on.
 
 #[macro_use]
 mod declare;
 mod config;
 mod dependencies;
 mod rule;
+mod states;
 #[allow(clippy::module_inception)]
 mod table;
 
 pub use config::{Config, Drive, Lateral, Law, Motion};
 pub use dependencies::{Dependency, Depends};
 pub use rule::{ParamError, Rule, Sign};
+pub use states::{force_knowns, rate_knowns, velocity_knowns, Known, StateId};
 pub use table::{InputId, Inputs, OutputId, Outputs, ParamId, Params};
 
 /// Whether a variable may change during the simulation (the model description's

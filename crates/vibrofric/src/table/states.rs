@@ -1,0 +1,312 @@
+//! The continuous states a Model Exchange importer integrates, each declared once: name, value
+//! references of the state and of its derivative, units, the scenes that have it, and what its
+//! derivative depends on (`ModelStructure/Derivatives`).
+//!
+//! The states are those the Co-Simulation solver integrates, `[s | body]`, plus the two it
+//! computes in closed form there and an importer must integrate here: the position the inputs
+//! impose (`x` under velocity drive, the spring's far end `x_d`), and `∫F_Fx dt` over the
+//! averaging window in progress, from which `F_mean` follows at each window boundary (a time
+//! event). Their derivatives:
+//!
+//! | state | derivative |
+//! |---|---|
+//! | `contact.s_x`, `contact.s_y` | the law's deformation rate at `v_r = v − v_s` |
+//! | `body.x`, `body.y` | `v_x`, `v_y` (under velocity drive `body.x` is imposed: `v_d`) |
+//! | `body.v_x`, `body.v_y` | `(F_d·e_x − F_F)/m` |
+//! | `drive.x_d` | `v_d` |
+//! | `window.F_int` | `F_Fx` |
+
+use super::{Config, Drive, InputId, Law, OutputId};
+
+/// One continuous state of Model Exchange.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum StateId {
+    Sx,
+    Sy,
+    X,
+    Y,
+    Vx,
+    Vy,
+    Xd,
+    Window,
+}
+
+/// What a derivative or an output depends on among the knowns of Model Exchange.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Known {
+    State(StateId),
+    Input(InputId),
+}
+
+impl StateId {
+    pub const ALL: [StateId; 8] = [
+        StateId::Sx,
+        StateId::Sy,
+        StateId::X,
+        StateId::Y,
+        StateId::Vx,
+        StateId::Vy,
+        StateId::Xd,
+        StateId::Window,
+    ];
+    pub const COUNT: usize = StateId::ALL.len();
+
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            StateId::Sx => "contact.s_x",
+            StateId::Sy => "contact.s_y",
+            StateId::X => "body.x",
+            StateId::Y => "body.y",
+            StateId::Vx => "body.v_x",
+            StateId::Vy => "body.v_y",
+            StateId::Xd => "drive.x_d",
+            StateId::Window => "window.F_int",
+        }
+    }
+
+    /// The derivative's name, `der(<state>)`.
+    pub fn derivative_name(self) -> &'static str {
+        match self {
+            StateId::Sx => "der(contact.s_x)",
+            StateId::Sy => "der(contact.s_y)",
+            StateId::X => "der(body.x)",
+            StateId::Y => "der(body.y)",
+            StateId::Vx => "der(body.v_x)",
+            StateId::Vy => "der(body.v_y)",
+            StateId::Xd => "der(drive.x_d)",
+            StateId::Window => "der(window.F_int)",
+        }
+    }
+
+    /// Value reference of the state (301–308) and of its derivative (401–408).
+    pub fn vr(self) -> u32 {
+        301 + self as u32
+    }
+    pub fn derivative_vr(self) -> u32 {
+        401 + self as u32
+    }
+
+    pub fn unit(self) -> &'static str {
+        match self {
+            StateId::Sx | StateId::Sy | StateId::X | StateId::Y | StateId::Xd => "m",
+            StateId::Vx | StateId::Vy => "m/s",
+            StateId::Window => "N.s",
+        }
+    }
+
+    pub fn derivative_unit(self) -> &'static str {
+        match self {
+            StateId::Sx | StateId::Sy | StateId::X | StateId::Y | StateId::Xd => "m/s",
+            StateId::Vx | StateId::Vy => "m/s2",
+            StateId::Window => "N",
+        }
+    }
+
+    pub fn display_unit(self) -> Option<&'static str> {
+        match self {
+            StateId::Vx | StateId::Vy => Some("mm/s"),
+            StateId::Window => None,
+            _ => Some("um"),
+        }
+    }
+
+    pub fn description(self) -> &'static str {
+        match self {
+            StateId::Sx => "State: contact deformation along x",
+            StateId::Sy => "State: contact deformation along y",
+            StateId::X => "State: body position along x (under velocity drive the integral of v_d)",
+            StateId::Y => "State: body position along y",
+            StateId::Vx => "State: body velocity along x",
+            StateId::Vy => "State: body velocity along y",
+            StateId::Xd => "State: position of the spring's far end (the integral of v_d)",
+            StateId::Window => {
+                "State: integral of F_Fx over the averaging window in progress (F_mean = F_int/window at its end)"
+            }
+        }
+    }
+
+    pub fn derivative_description(self) -> &'static str {
+        match self {
+            StateId::Sx => "Deformation rate along x (the friction law)",
+            StateId::Sy => "Deformation rate along y (the friction law)",
+            StateId::X => "Body velocity along x",
+            StateId::Y => "Body velocity along y",
+            StateId::Vx => "Body acceleration along x",
+            StateId::Vy => "Body acceleration along y",
+            StateId::Xd => "Velocity of the spring's far end (v_d)",
+            StateId::Window => "F_Fx, the integrand of the window's mean",
+        }
+    }
+
+    /// True when a scene with this configuration and these outputs has the state.
+    pub fn present(self, c: &Config, outputs: &[OutputId]) -> bool {
+        let force_or_spring = c.drive != Drive::Velocity;
+        match self {
+            StateId::Sx => true,
+            StateId::Sy => c.planar(),
+            StateId::X => true,
+            StateId::Vx => force_or_spring,
+            StateId::Y | StateId::Vy => c.lateral_free(),
+            StateId::Xd => c.drive == Drive::Spring,
+            StateId::Window => {
+                outputs.contains(&OutputId::FMean) || outputs.contains(&OutputId::Reduction)
+            }
+        }
+    }
+
+    /// The knowns the derivative depends on, in this configuration (the `dependencies` of
+    /// `ModelStructure/Derivatives`): see the table of the module's documentation and, for the
+    /// deformation rate and the force, [`force_knowns`] and [`rate_knowns`].
+    pub fn derivative_dependencies(self, c: &Config, outputs: &[OutputId]) -> Vec<Known> {
+        let mut d = match self {
+            StateId::Sx => rate_knowns(c, 0),
+            StateId::Sy => rate_knowns(c, 1),
+            StateId::X if c.drive == Drive::Velocity => vec![Known::Input(InputId::VD)],
+            StateId::X => vec![Known::State(StateId::Vx)],
+            StateId::Y => vec![Known::State(StateId::Vy)],
+            StateId::Vx => {
+                let mut d = force_knowns(c, 0);
+                match c.drive {
+                    Drive::Force => d.push(Known::Input(InputId::FD)),
+                    _ => d.extend([
+                        Known::State(StateId::X),
+                        Known::State(StateId::Vx),
+                        Known::State(StateId::Xd),
+                        Known::Input(InputId::VD),
+                    ]),
+                }
+                d
+            }
+            StateId::Vy => force_knowns(c, 1),
+            StateId::Xd => vec![Known::Input(InputId::VD)],
+            StateId::Window => force_knowns(c, 0),
+        };
+        d.retain(|k| match k {
+            Known::State(s) => s.present(c, outputs),
+            Known::Input(i) => i.present(c),
+        });
+        dedup(&mut d);
+        d
+    }
+}
+
+fn dedup(d: &mut Vec<Known>) {
+    let mut out: Vec<Known> = vec![];
+    for k in d.drain(..) {
+        if !out.contains(&k) {
+            out.push(k);
+        }
+    }
+    *d = out;
+}
+
+/// The knowns the relative velocity `v_r = v − v_s` depends on: the body's velocity states, the
+/// imposed `v_d`, the input support velocities.
+pub fn velocity_knowns(c: &Config) -> Vec<Known> {
+    let mut d = vec![];
+    match c.drive {
+        Drive::Velocity => {
+            d.push(Known::Input(InputId::VD));
+            if c.lateral_free() {
+                d.push(Known::State(StateId::Vy));
+            }
+        }
+        _ => {
+            d.push(Known::State(StateId::Vx));
+            if c.planar() {
+                d.push(Known::State(StateId::Vy));
+            }
+        }
+    }
+    if c.input_support {
+        d.push(Known::Input(InputId::VSx));
+        if c.planar() {
+            d.push(Known::Input(InputId::VSy));
+        }
+    }
+    d
+}
+
+/// The knowns component `k` of the deformation rate depends on: its own deformation (both with
+/// Dupont's planar weight `alpha(s, v_r)`), the relative velocity (all of it: the rate has
+/// `|v_r|`), and the normal force where it is an input.
+pub fn rate_knowns(c: &Config, k: usize) -> Vec<Known> {
+    let own = [StateId::Sx, StateId::Sy][k];
+    let mut d = vec![Known::State(own)];
+    if c.planar() && c.law == Law::Dupont {
+        d.push(Known::State([StateId::Sy, StateId::Sx][k]));
+    }
+    d.extend(velocity_knowns(c));
+    if c.normal_input {
+        d.push(Known::Input(InputId::FN));
+    }
+    d
+}
+
+/// The knowns component `k` of the friction force depends on: `k_t·s` for Dahl and Dupont;
+/// LuGre adds `h_t(|v_r|)·ds/dt + h_v·v_r`, so the deformation rate's knowns.
+pub fn force_knowns(c: &Config, k: usize) -> Vec<Known> {
+    if c.law == Law::LuGre {
+        rate_knowns(c, k)
+    } else {
+        vec![Known::State([StateId::Sx, StateId::Sy][k])]
+    }
+}
+
+impl Config {
+    /// Number of event indicators of Model Exchange: the sign of `v_rx` (the kink of `|v_r|`),
+    /// in planar Dupont the direction test `s·v_r`, and with the normal force an input its
+    /// lift-off threshold.
+    pub fn event_indicators(&self) -> usize {
+        1 + (self.planar() && self.law == Law::Dupont) as usize + self.normal_input as usize
+    }
+}
+
+impl OutputId {
+    /// The states the output depends on in Model Exchange (with [`super::Depends::direct`]'s
+    /// inputs, the `dependencies` of `ModelStructure/Outputs`). `F_mean` is `F_int` over the
+    /// time elapsed in the first window (`F_Fx` at its very start), a constant after it; the
+    /// step means are `F_F` (an importer's integrator has no communication steps).
+    pub fn state_dependencies(self, c: &Config, outputs: &[OutputId]) -> Vec<StateId> {
+        let mut d: Vec<Known> = match self {
+            OutputId::FFx | OutputId::FFxStep => force_knowns(c, 0),
+            OutputId::FFy | OutputId::FFyStep => force_knowns(c, 1),
+            OutputId::X => vec![Known::State(StateId::X)],
+            OutputId::Y => vec![Known::State(StateId::Y)],
+            OutputId::Vx => vec![Known::State(StateId::Vx)],
+            OutputId::Vy => vec![Known::State(StateId::Vy)],
+            OutputId::Sx => vec![Known::State(StateId::Sx)],
+            OutputId::Sy => vec![Known::State(StateId::Sy)],
+            OutputId::FMean | OutputId::Reduction => {
+                let mut d = vec![Known::State(StateId::Window)];
+                d.extend(force_knowns(c, 0));
+                d
+            }
+            OutputId::PDiss => {
+                let mut d = vec![];
+                for k in 0..1 + c.planar() as usize {
+                    d.extend(force_knowns(c, k));
+                    d.extend(rate_knowns(c, k));
+                }
+                d
+            }
+            OutputId::FDrive => [StateId::Xd, StateId::X, StateId::Vx]
+                .map(Known::State)
+                .to_vec(),
+        };
+        dedup(&mut d);
+        let mut states: Vec<StateId> = d
+            .into_iter()
+            .filter_map(|k| match k {
+                Known::State(s) if s.present(c, outputs) => Some(s),
+                _ => None,
+            })
+            .collect();
+        states.sort_by_key(|s| s.index());
+        states
+    }
+}
