@@ -42,7 +42,7 @@ fn rule_text(v: &Variable) -> String {
     let rule = match v.kind {
         VarKind::Param(p) => p.rule(),
         VarKind::Input(i) => i.rule(),
-        VarKind::Output(_) => return String::new(),
+        _ => return String::new(),
     };
     format!("[{}, {}]", xml::number(rule.min), xml::number(rule.max))
 }
@@ -53,7 +53,7 @@ fn default_text(v: &Variable) -> String {
     match v.kind {
         VarKind::Param(id) => xml::number(id.get(&p)),
         VarKind::Input(id) => xml::number(id.get(&i)),
-        VarKind::Output(_) => String::new(),
+        _ => String::new(),
     }
 }
 
@@ -231,12 +231,10 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
     }
     for v in VARIABLES
         .iter()
-        .filter(|v| !matches!(v.kind, VarKind::Output(_)))
+        .filter(|v| matches!(v.kind, VarKind::Param(_) | VarKind::Input(_)))
     {
-        let present = where_present(&scenes_all, |s| {
-            s.has_vr(v.vr) && v.causality(&s.config) != Causality::Output
-        })
-        .map_err(|e| format!("{}: {e}", v.name()))?;
+        let present = where_present(&scenes_all, |s| s.has_vr(v.vr) && v.settable(&s.config))
+            .map_err(|e| format!("{}: {e}", v.name()))?;
         writeln!(
             w,
             "| `{}` | {} | {} | {} | {} | {} | {} | {} |",
@@ -375,7 +373,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
             let d = match v.kind {
                 VarKind::Param(p) => p.get(&defaults),
                 VarKind::Input(i) => i.get(&inputs),
-                VarKind::Output(_) => continue,
+                _ => continue,
             };
             if x.to_bits() != d.to_bits() {
                 changed.push(format!("`{} = {}`", v.name(), xml::number(x)));

@@ -19,7 +19,7 @@ use std::ops::Range;
 use serde::Deserialize;
 use toml::{Spanned, Value};
 
-use crate::description::variables::{Causality, VarKind, Variable, VARIABLES};
+use crate::description::variables::{VarKind, Variable, VARIABLES};
 use crate::table::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId};
 use crate::table::{ParamId, Params};
 
@@ -681,7 +681,7 @@ impl Scene {
         let mut inputs = default_inputs();
         let settable: Vec<&'static Variable> = VARIABLES
             .iter()
-            .filter(|v| v.present(&config, &outputs) && v.causality(&config) != Causality::Output)
+            .filter(|v| v.present(&config, &outputs) && v.settable(&config))
             .collect();
         let settable_names = || settable.iter().map(|v| v.name().to_string()).collect();
         let mut start_entries: Vec<_> = detail.start.unwrap_or_default().into_iter().collect();
@@ -730,7 +730,7 @@ impl Scene {
                     }
                     *i.slot(&mut inputs) = value;
                 }
-                VarKind::Output(_) => unreachable!("outputs are not settable"),
+                _ => unreachable!("only parameters and inputs are settable"),
             }
         }
 
@@ -849,6 +849,9 @@ fn start_refusal(var: &Variable, c: &Config, what: &str) -> String {
             format!("{name} is an input only with input support motion (support = [\"input\"])")
         }
         VarKind::Input(_) => format!("{name} is not an input of a {what}"),
+        VarKind::State(_) | VarKind::Derivative(_) => format!(
+            "{name} is a continuous state of Model Exchange (or its derivative); the body starts at rest at the origin, undeformed"
+        ),
         _ => format!("{name} is an output; outputs have no start value"),
     }
 }

@@ -10,7 +10,9 @@
 use std::sync::LazyLock;
 
 pub use crate::table::Variability;
-use crate::table::{Config, Dependency, Drive, InputId, Inputs, OutputId, ParamId, Params};
+use crate::table::{
+    Config, Dependency, Drive, InputId, Inputs, Known, OutputId, ParamId, Params, StateId,
+};
 
 /// What a variable is bound to in the model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -18,6 +20,10 @@ pub enum VarKind {
     Param(ParamId),
     Input(InputId),
     Output(OutputId),
+    /// A continuous state of Model Exchange (a local variable).
+    State(StateId),
+    /// The derivative of a continuous state (a local variable).
+    Derivative(StateId),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -25,6 +31,7 @@ pub enum Causality {
     Parameter,
     Input,
     Output,
+    Local,
 }
 
 impl Causality {
@@ -33,6 +40,7 @@ impl Causality {
             Causality::Parameter => "parameter",
             Causality::Input => "input",
             Causality::Output => "output",
+            Causality::Local => "local",
         }
     }
 }
@@ -71,6 +79,13 @@ impl Variable {
             VarKind::Param(p) => (p.vr(), p.unit(), p.display_unit(), p.description()),
             VarKind::Input(i) => (i.vr(), i.unit(), i.display_unit(), i.description()),
             VarKind::Output(o) => (o.vr(), o.unit(), o.display_unit(), o.description()),
+            VarKind::State(x) => (x.vr(), x.unit(), x.display_unit(), x.description()),
+            VarKind::Derivative(x) => (
+                x.derivative_vr(),
+                x.derivative_unit(),
+                None,
+                x.derivative_description(),
+            ),
         };
         Variable {
             vr,
@@ -86,6 +101,8 @@ impl Variable {
             VarKind::Param(p) => p.name(),
             VarKind::Input(i) => i.name(),
             VarKind::Output(o) => o.name(),
+            VarKind::State(x) => x.name(),
+            VarKind::Derivative(x) => x.derivative_name(),
         }
     }
 
@@ -98,6 +115,7 @@ impl Variable {
             VarKind::Input(InputId::FD) if c.drive == Drive::Spring => Causality::Output,
             VarKind::Input(_) => Causality::Input,
             VarKind::Output(_) => Causality::Output,
+            VarKind::State(_) | VarKind::Derivative(_) => Causality::Local,
         }
     }
 
@@ -128,6 +146,7 @@ impl Variable {
             }
             VarKind::Input(i) => i.present(c),
             VarKind::Output(o) => o.present(c) && outputs.contains(&o),
+            VarKind::State(x) | VarKind::Derivative(x) => x.present(c, outputs),
         }
     }
 
@@ -147,7 +166,7 @@ impl Variable {
         match self.kind {
             VarKind::Param(p) => p.rule_in(c).min(),
             VarKind::Input(i) => i.rule().min(),
-            VarKind::Output(_) => None,
+            _ => None,
         }
     }
 
@@ -156,7 +175,20 @@ impl Variable {
         match self.kind {
             VarKind::Param(p) => p.rule_in(c).max(),
             VarKind::Input(i) => i.rule().max(),
-            VarKind::Output(_) => None,
+            _ => None,
+        }
+    }
+
+    /// True when an importer may set the variable (parameters and inputs).
+    pub fn settable(&self, c: &Config) -> bool {
+        matches!(self.causality(c), Causality::Parameter | Causality::Input)
+    }
+
+    /// The state whose derivative this row is, if it is one.
+    pub fn derivative_of(&self) -> Option<StateId> {
+        match self.kind {
+            VarKind::Derivative(x) => Some(x),
+            _ => None,
         }
     }
 
@@ -175,6 +207,28 @@ impl Variable {
         self.output(c).map_or(vec![], |o| o.depends().direct(c))
     }
 
+    /// Value references of the knowns (inputs, continuous states) an output or a state
+    /// derivative depends on during the simulation: the `dependencies` of
+    /// `ModelStructure/Outputs` and `Derivatives`.
+    pub fn known_dependencies(&self, c: &Config, outputs: &[OutputId]) -> Vec<u32> {
+        if let Some(x) = self.derivative_of() {
+            return x
+                .derivative_dependencies(c, outputs)
+                .into_iter()
+                .map(|k| match k {
+                    Known::State(s) => s.vr(),
+                    Known::Input(i) => i.vr(),
+                })
+                .collect();
+        }
+        let Some(o) = self.output(c) else {
+            return vec![];
+        };
+        let mut vrs: Vec<u32> = o.depends().direct(c).iter().map(|i| i.vr()).collect();
+        vrs.extend(o.state_dependencies(c, outputs).iter().map(|s| s.vr()));
+        vrs
+    }
+
     /// Parameters and inputs the output depends on at initialization (the `dependencies` of
     /// `ModelStructure/InitialUnknowns`), in this configuration.
     pub fn initial_dependencies(&self, c: &Config) -> Vec<Dependency> {
@@ -190,7 +244,9 @@ pub static VARIABLES: LazyLock<Vec<Variable>> = LazyLock::new(|| {
         .into_iter()
         .map(VarKind::Param)
         .chain(InputId::ALL.into_iter().map(VarKind::Input))
-        .chain(OutputId::ALL.into_iter().map(VarKind::Output));
+        .chain(OutputId::ALL.into_iter().map(VarKind::Output))
+        .chain(StateId::ALL.into_iter().map(VarKind::State))
+        .chain(StateId::ALL.into_iter().map(VarKind::Derivative));
     let mut rows: Vec<Variable> = vec![];
     for kind in kinds {
         let row = Variable::of(kind);

@@ -1,5 +1,6 @@
-//! The FMI 2.0 Co-Simulation `modelDescription.xml` of a scene, written with quick-xml from the
-//! variable table ([`crate::description::variables::VARIABLES`]) and nothing else.
+//! The FMI 2.0 `modelDescription.xml` of a scene (Model Exchange and Co-Simulation in one
+//! document), written with quick-xml from the variable table
+//! ([`crate::description::variables::VARIABLES`]) and nothing else.
 //!
 //! Depends only on the table and the scene (no solver, no FMI).
 //!
@@ -19,7 +20,7 @@ use sha2::{Digest, Sha256};
 
 use crate::description::log::Category;
 use crate::description::scene::Scene;
-use crate::description::variables::{Causality, Initial, Variable};
+use crate::description::variables::{Causality, Initial, VarKind, Variable};
 
 /// `DefaultExperiment` of every FMU: (startTime, stopTime, tolerance, stepSize).
 pub const DEFAULT_EXPERIMENT: (f64, f64, f64, f64) = (0.0, 0.1, 1e-6, 1e-3);
@@ -43,6 +44,8 @@ fn base_unit(unit: &str) -> Option<[i32; 4]> {
         "N" => [1, 1, -2, 0],
         "N/m" => [1, 0, -2, 0],
         "N.s/m" => [1, 0, -1, 0],
+        "N.s" => [1, 1, -1, 0],
+        "m/s2" => [0, 1, -2, 0],
         "Hz" => [0, 0, -1, 0],
         "W" => [1, 2, -3, 0],
         "1" => [0, 0, 0, 0],
@@ -58,8 +61,8 @@ pub const DISPLAY_UNITS: [(&str, &str, f64); 3] = [
 ];
 
 /// Order of `UnitDefinitions`.
-const UNIT_ORDER: [&str; 11] = [
-    "1", "kg", "m", "m/s", "N", "N/m", "N.s/m", "W", "Hz", "s", "rad",
+const UNIT_ORDER: [&str; 13] = [
+    "1", "kg", "m", "m/s", "m/s2", "N", "N.s", "N/m", "N.s/m", "W", "Hz", "s", "rad",
 ];
 
 /// A number as the model description writes it: shortest round-trip form, with an exponent for
@@ -85,7 +88,7 @@ fn indices(vars: &[&Variable], vrs: &[u32]) -> Vec<usize> {
     idx
 }
 
-fn joined<T: ToString>(idx: &[T]) -> String {
+pub(super) fn joined<T: ToString>(idx: &[T]) -> String {
     idx.iter()
         .map(|i| i.to_string())
         .collect::<Vec<_>>()
@@ -163,10 +166,25 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
             ("description", &scene.description),
             ("generationTool", &tool),
             ("variableNamingConvention", "flat"),
-            ("numberOfEventIndicators", "0"),
+            ("numberOfEventIndicators", &c.event_indicators().to_string()),
         ],
     )?;
 
+    empty(
+        w,
+        "ModelExchange",
+        &[
+            ("modelIdentifier", &scene.model_identifier),
+            ("needsExecutionTool", "false"),
+            // Nothing happens at the end of an integrator step: no step events.
+            ("completedIntegratorStepNotNeeded", "true"),
+            ("canBeInstantiatedOnlyOncePerProcess", "false"),
+            ("canNotUseMemoryManagementFunctions", "true"),
+            ("canGetAndSetFMUstate", "true"),
+            ("canSerializeFMUstate", "true"),
+            ("providesDirectionalDerivative", "true"),
+        ],
+    )?;
     let interpolate = vars.iter().any(|v| v.causality(c) == Causality::Input);
     empty(
         w,
@@ -232,6 +250,13 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
             real.push(("displayUnit", d));
         }
         real.extend(nums.iter().map(|(n, x)| (*n, x.as_str())));
+        // A derivative names its state by the state's 1-based index.
+        let state_index = v
+            .derivative_of()
+            .and_then(|x| indices(&vars, &[x.vr()]).first().map(|i| i.to_string()));
+        if let Some(i) = &state_index {
+            real.insert(0, ("derivative", i.as_str()));
+        }
         empty(w, "Real", &real)?;
         close(w, "ScalarVariable")?;
     }
@@ -246,12 +271,27 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
         .collect();
     open(w, "Outputs", &[])?;
     for (index, v) in &outputs {
-        let vrs: Vec<u32> = v.input_dependencies(c).iter().map(|i| i.vr()).collect();
+        let vrs = v.known_dependencies(c, &scene.outputs);
         let deps = joined(&indices(&vars, &vrs));
         let index = index.to_string();
         empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
     }
     close(w, "Outputs")?;
+    // Model Exchange: the order of the derivatives is the order of the state vector.
+    let derivatives: Vec<(usize, &&Variable)> = vars
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.derivative_of().is_some())
+        .map(|(i, v)| (i + 1, v))
+        .collect();
+    open(w, "Derivatives", &[])?;
+    for (index, v) in &derivatives {
+        let vrs = v.known_dependencies(c, &scene.outputs);
+        let deps = joined(&indices(&vars, &vrs));
+        let index = index.to_string();
+        empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
+    }
+    close(w, "Derivatives")?;
     open(w, "InitialUnknowns", &[])?;
     for (index, v) in &outputs {
         if v.initial(c) != Some(Initial::Calculated) {
@@ -261,6 +301,16 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
         let deps = joined(&indices(&vars, &vrs));
         let index = index.to_string();
         empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
+    }
+    // The states start at 0 (the body at rest at the origin, undeformed); their derivatives
+    // depend at the start on parameters and inputs (no `dependencies`: all of them).
+    for (i, v) in vars.iter().enumerate() {
+        let index = (i + 1).to_string();
+        match v.kind {
+            VarKind::State(_) => empty(w, "Unknown", &[("index", &index), ("dependencies", "")])?,
+            VarKind::Derivative(_) => empty(w, "Unknown", &[("index", &index)])?,
+            _ => {}
+        }
     }
     close(w, "InitialUnknowns")?;
     close(w, "ModelStructure")?;

@@ -20,7 +20,7 @@ use quick_xml::events::{BytesDecl, Event};
 use quick_xml::Writer;
 
 use super::scene::Scene;
-use super::variables::{Causality, Initial, Variable};
+use super::variables::{Causality, Initial, VarKind, Variable};
 use super::xml::{
     close, empty, generation_tool, guid, number, open, write_default_experiment,
     write_log_categories, write_units, W,
@@ -148,6 +148,10 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
             attrs.push(("initial", init.as_str().into()));
         }
         attrs.push(("declaredType", type_name(v.unit, v.display_unit)));
+        // A derivative names its state by value reference.
+        if let Some(x) = v.derivative_of() {
+            attrs.push(("derivative", x.vr().to_string()));
+        }
         if v.causality(c) != Causality::Output {
             for (n, x) in [("min", v.min(c)), ("max", v.max(c))] {
                 if let Some(x) = x {
@@ -173,11 +177,21 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
         .filter(|v| v.causality(c) == Causality::Output)
         .collect();
     for v in &outputs {
-        let deps: Vec<u32> = v.input_dependencies(c).iter().map(|i| i.vr()).collect();
+        let deps = v.known_dependencies(c, &scene.outputs);
         let vr = v.vr.to_string();
         empty(
             w,
             "Output",
+            &[("valueReference", &vr), ("dependencies", &joined(&deps))],
+        )?;
+    }
+    // The order of the derivatives is the order of the state vector.
+    for v in vars.iter().filter(|v| v.derivative_of().is_some()) {
+        let deps = v.known_dependencies(c, &scene.outputs);
+        let vr = v.vr.to_string();
+        empty(
+            w,
+            "ContinuousStateDerivative",
             &[("valueReference", &vr), ("dependencies", &joined(&deps))],
         )?;
     }
@@ -192,6 +206,19 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
             "InitialUnknown",
             &[("valueReference", &vr), ("dependencies", &joined(&deps))],
         )?;
+    }
+    // The states start at 0; their derivatives depend at the start on parameters and inputs.
+    for v in &vars {
+        let vr = v.vr.to_string();
+        match v.kind {
+            VarKind::State(_) => empty(
+                w,
+                "InitialUnknown",
+                &[("valueReference", &vr), ("dependencies", "")],
+            )?,
+            VarKind::Derivative(_) => empty(w, "InitialUnknown", &[("valueReference", &vr)])?,
+            _ => {}
+        }
     }
     close(w, "ModelStructure")?;
     close(w, "fmiModelDescription")

@@ -18,13 +18,13 @@ use std::fmt::Display;
 use super::log::Logger;
 use super::saved::{self, FmuState};
 use super::staging::{Assign, Staged};
-use super::state::{Call, State};
+use super::state::{Call, Interface, State};
 use super::status::Status;
 use crate::description::log::Category;
 use crate::description::scene::Scene;
 use crate::description::variables::{by_vr, Causality, VarKind, Variability, Variable};
 use crate::description::xml;
-use crate::model::{self, InputId, OutputId, Outputs, SimError, Simulator};
+use crate::model::{self, InputId, OutputId, Outputs, SimError, Simulator, StateId};
 use crate::physics::ParamId;
 
 /// The FMU instance.
@@ -32,15 +32,19 @@ pub struct Instance {
     name: String,
     scene: Scene,
     guid: String,
+    /// Co-Simulation or Model Exchange, as instantiated.
+    pub(super) interface: Interface,
     /// The scene's variables, sorted by value reference.
     vars: Vec<&'static Variable>,
+    /// Model Exchange: the scene's continuous states, in the order of the state vector.
+    pub(super) states: Vec<StateId>,
     logger: Box<dyn Logger>,
     categories: [bool; 4],
-    st: Staged,
-    sim: Option<Box<dyn Simulator>>,
+    pub(super) st: Staged,
+    pub(super) sim: Option<Box<dyn Simulator>>,
     /// Simulator built from the staged values to answer `fmi2GetReal` before the real one
     /// exists; dropped whenever a staged value changes.
-    provisional: Option<Box<dyn Simulator>>,
+    pub(super) provisional: Option<Box<dyn Simulator>>,
 }
 
 impl Instance {
@@ -59,6 +63,7 @@ impl Instance {
     #[allow(clippy::too_many_arguments)]
     pub fn instantiate(
         call: Call,
+        interface: Interface,
         name: &str,
         token_arg: &str,
         guid: Option<&str>,
@@ -110,8 +115,17 @@ impl Instance {
         }
         let mut vars: Vec<&'static Variable> = scene.variables().collect();
         vars.sort_by_key(|v| v.vr);
+        let states = scene
+            .variables()
+            .filter_map(|v| match v.kind {
+                VarKind::State(x) => Some(x),
+                _ => None,
+            })
+            .collect();
         let inst = Instance {
             name: name.to_string(),
+            interface,
+            states,
             st: Staged::initial(&scene),
             scene,
             guid: expected,
@@ -163,28 +177,28 @@ impl Instance {
 
     /// Logs a status message: errors and discards always reach the importer, other messages
     /// only when their category is enabled.
-    fn log(&self, status: Status, c: Category, msg: &str) {
+    pub(super) fn log(&self, status: Status, c: Category, msg: &str) {
         if status >= Status::Discard || self.enabled(c) {
             self.logger.log(status, c.name(), msg);
         }
     }
 
     /// A `logEvents` message, formatted only when that category is enabled.
-    fn event(&self, msg: impl FnOnce() -> String) {
+    pub(super) fn event(&self, msg: impl FnOnce() -> String) {
         if self.enabled(Category::Events) {
             self.logger.log(Status::Ok, Category::Events.name(), &msg());
         }
     }
 
     /// A `logAll` trace, formatted only when that category is enabled.
-    fn trace(&self, msg: impl FnOnce() -> String) {
+    pub(super) fn trace(&self, msg: impl FnOnce() -> String) {
         if self.categories[Category::All as usize] {
             self.logger.log(Status::Ok, Category::All.name(), &msg());
         }
     }
 
     /// Logs `f: msg` as an error and enters the `Error` state.
-    fn fail(&mut self, f: &str, msg: impl Display) -> Status {
+    pub(super) fn fail(&mut self, f: &str, msg: impl Display) -> Status {
         self.log(
             Status::Error,
             Category::StatusError,
@@ -363,7 +377,10 @@ impl Instance {
                 self.sim = Some(sim);
                 self.provisional = None;
                 self.st.derivs = [None; InputId::ALL.len()];
-                self.st.state = State::StepComplete;
+                self.st.state = match self.interface {
+                    Interface::CoSimulation => State::StepComplete,
+                    Interface::ModelExchange => State::EventMode,
+                };
                 self.event(|| {
                     format!(
                         "{f}: simulator built at t = {} with tolerance {}",
@@ -406,7 +423,7 @@ impl Instance {
         self.event(|| call.name.to_string());
     }
 
-    fn build_sim(&self) -> Result<Box<dyn Simulator>, SimError> {
+    pub(super) fn build_sim(&self) -> Result<Box<dyn Simulator>, SimError> {
         let c = self.scene.config;
         let mut sim = model::build(c, self.st.params, self.st.start_time, self.st.tolerance())?;
         for id in InputId::ALL {
@@ -424,7 +441,7 @@ impl Instance {
 
     // ---- variables ---------------------------------------------------------------------------
 
-    fn lookup(&self, vr: u32) -> Result<&'static Variable, String> {
+    pub(super) fn lookup(&self, vr: u32) -> Result<&'static Variable, String> {
         if let Ok(k) = self.vars.binary_search_by_key(&vr, |v| v.vr) {
             return Ok(self.vars[k]);
         }
@@ -439,18 +456,15 @@ impl Instance {
         })
     }
 
-    fn outputs_now(&mut self) -> Result<Outputs, SimError> {
-        if let Some(sim) = &self.sim {
-            return Ok(sim.outputs());
-        }
-        if self.provisional.is_none() {
+    /// The simulator, or before it exists one built from the staged values.
+    pub(super) fn simulator_now(&mut self) -> Result<&dyn Simulator, SimError> {
+        if self.sim.is_none() && self.provisional.is_none() {
             self.provisional = Some(self.build_sim()?);
         }
-        Ok(self
-            .provisional
-            .as_ref()
-            .map(|s| s.outputs())
-            .unwrap_or_default())
+        match self.sim.as_deref().or(self.provisional.as_deref()) {
+            Some(sim) => Ok(sim),
+            None => unreachable!("built above"),
+        }
     }
 
     /// `fmi2GetReal`. `values` has the length of `vrs`.
@@ -464,19 +478,24 @@ impl Instance {
         for &vr in vrs {
             match self.lookup(vr) {
                 Ok(v) => {
-                    need_outputs |= v.causality(&self.scene.config) == Causality::Output;
+                    need_outputs |= v.causality(&self.scene.config) != Causality::Parameter
+                        && v.causality(&self.scene.config) != Causality::Input;
                     vars.push(v);
                 }
                 Err(msg) => return self.fail(f, msg),
             }
         }
-        let outputs = if need_outputs {
-            match self.outputs_now() {
-                Ok(o) => o,
+        let (outputs, states, derivatives) = if need_outputs {
+            match self.simulator_now() {
+                Ok(sim) => (sim.outputs(), sim.states(), sim.derivatives()),
                 Err(e) => return self.fail(f, e),
             }
         } else {
-            Outputs::default()
+            (
+                Outputs::default(),
+                [0.0; StateId::COUNT],
+                [0.0; StateId::COUNT],
+            )
         };
         for (v, out) in vars.iter().zip(values.iter_mut()) {
             *out = match v.kind {
@@ -487,6 +506,8 @@ impl Instance {
                 }
                 VarKind::Input(_) => OutputId::FDrive.get(&outputs),
                 VarKind::Output(o) => o.get(&outputs),
+                VarKind::State(x) => states[x.index()],
+                VarKind::Derivative(x) => derivatives[x.index()],
             };
         }
         // fmi2OK never comes with a non-finite value (the ranges are chosen so that none
@@ -518,6 +539,18 @@ impl Instance {
                     return self.fail(
                         f,
                         format!("{name} (vr {vr}) has causality output: it is computed by the FMU and cannot be set"),
+                    )
+                }
+                (_, Causality::Local) => {
+                    return self.fail(
+                        f,
+                        format!("{name} (vr {vr}) is a continuous state or derivative (causality local): an importer sets states with {}", call.words.set_states),
+                    )
+                }
+                (VarKind::Param(p), Causality::Parameter) if state == State::ContinuousTimeMode => {
+                    return self.fail(
+                        f,
+                        format!("{} (vr {vr}) is a parameter: in ContinuousTimeMode only inputs can be set; tunable parameters in EventMode", p.name()),
                     )
                 }
                 (VarKind::Param(ParamId::FN), Causality::Input) => {
@@ -555,12 +588,15 @@ impl Instance {
                     }
                     plan.push(Assign::Input(i, value));
                 }
-                (VarKind::Output(_), _) => unreachable!("outputs have causality output"),
+                _ => unreachable!("outputs and locals are refused above"),
             }
         }
+        // In Model Exchange the body lifts off or lands at the next event update, not here.
+        let exchange = matches!(state, State::EventMode | State::ContinuousTimeMode);
         if let Some(sim) = self.sim.as_mut() {
             let apply = |sim: &mut dyn Simulator, a: Assign| match a {
                 Assign::Param(p, x) => sim.set_param(p, x),
+                Assign::Input(i, x) if exchange => sim.set_input_continuous(i, x),
                 Assign::Input(i, x) => sim.set_input(i, x),
             };
             // One assignment leaves the simulator unchanged when it fails; several are applied
@@ -580,6 +616,8 @@ impl Instance {
         for a in plan {
             match a {
                 Assign::Param(p, x) => {
+                    // A new parameter restarts the averaging window (F_int jumps to 0).
+                    self.st.states_changed |= exchange;
                     // Checked above, cannot fail.
                     let _ = p.set(&mut self.st.params, x);
                 }
@@ -733,12 +771,12 @@ impl Instance {
         Status::Ok
     }
 
-    /// `fmi2GetDirectionalDerivative`: not supported.
-    pub fn get_directional_derivative(&mut self, call: Call) -> Status {
+    /// Directional derivatives of a Co-Simulation instance: not provided.
+    pub fn no_directional_derivative(&mut self, call: Call) -> Status {
         let f = call.name;
         self.fail(
             f,
-            "not supported: this FMU provides no directional derivatives (providesDirectionalDerivative = false)",
+            "not supported in Co-Simulation (providesDirectionalDerivative = false there); instantiate the FMU for Model Exchange for the Jacobians",
         )
     }
 
@@ -979,6 +1017,7 @@ support = ["harmonic", "input"]
         let log: Log = Default::default();
         let inst = Instance::instantiate(
             Fn::Instantiate.call(),
+            crate::fmi::Interface::CoSimulation,
             "unit",
             "fmuGUID",
             Some(&xml::guid(&scene)),

@@ -27,6 +27,9 @@ pub struct Staged {
     /// The experiment's tolerance, when it defined one.
     pub tolerance: Option<f64>,
     pub stop_time: Option<f64>,
+    /// Model Exchange: a continuous state changed in this event mode (a parameter set), to be
+    /// reported by the next event update.
+    pub states_changed: bool,
 }
 
 impl Staged {
@@ -39,6 +42,7 @@ impl Staged {
             start_time: xml::DEFAULT_EXPERIMENT.0,
             tolerance: None,
             stop_time: None,
+            states_changed: false,
         }
     }
 

@@ -4,8 +4,9 @@
 
 use serde::{Deserialize, Serialize};
 
-/// The states of the Co-Simulation state machine this FMU can be in. A synchronous slave is
-/// never in FMI 2.0's `stepInProgress` or `stepCanceled`.
+/// The states of the Co-Simulation and Model Exchange state machines this FMU can be in. A
+/// synchronous slave is never in FMI 2.0's `stepInProgress` or `stepCanceled`; an instance for
+/// Co-Simulation is never in the two modes of Model Exchange, and the converse.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum State {
     Instantiated,
@@ -17,10 +18,14 @@ pub enum State {
     Terminated,
     Error,
     Fatal,
+    /// Model Exchange: discrete changes (events) are handled.
+    EventMode,
+    /// Model Exchange: the importer integrates the continuous states.
+    ContinuousTimeMode,
 }
 
 impl State {
-    pub const ALL: [State; 7] = [
+    pub const ALL: [State; 9] = [
         State::Instantiated,
         State::InitializationMode,
         State::StepComplete,
@@ -28,6 +33,8 @@ impl State {
         State::Terminated,
         State::Error,
         State::Fatal,
+        State::EventMode,
+        State::ContinuousTimeMode,
     ];
 
     pub fn name(self) -> &'static str {
@@ -39,8 +46,17 @@ impl State {
             State::Terminated => "Terminated",
             State::Error => "Error",
             State::Fatal => "Fatal",
+            State::EventMode => "EventMode",
+            State::ContinuousTimeMode => "ContinuousTimeMode",
         }
     }
+}
+
+/// The interface an instance was made for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Interface {
+    CoSimulation,
+    ModelExchange,
 }
 
 /// A set of states.
@@ -91,6 +107,8 @@ pub struct Vocabulary {
     /// The call that sets the experiment (tolerance, start and stop time).
     pub setup_experiment: &'static str,
     pub do_step: &'static str,
+    /// The call that sets the continuous states (Model Exchange).
+    pub set_states: &'static str,
     pub last_successful_time: &'static str,
     /// The boolean false of the C interface.
     pub false_: &'static str,

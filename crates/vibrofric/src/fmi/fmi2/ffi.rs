@@ -1,5 +1,5 @@
-//! The exported FMI 2.0 functions: every common and every Co-Simulation function of the
-//! standard (importers such as fmpy bind all of them when they load the library).
+//! The exported FMI 2.0 functions: every common, Co-Simulation and Model Exchange function of
+//! the standard (importers such as fmpy bind all of them when they load the library).
 //!
 //! This layer is thin: it checks pointers (a NULL instance returns `fmi2Error`; a NULL array
 //! with a nonzero length returns `fmi2Error` with a log line), turns C strings and arrays into
@@ -10,7 +10,7 @@
 //! magic number so that a pointer of the wrong kind is refused rather than used. Nothing is
 //! global: instances are independent and may live on any thread (one thread at a time per
 //! instance, as the standard requires).
-#![allow(non_snake_case, clippy::missing_safety_doc)]
+#![allow(non_snake_case, non_upper_case_globals, clippy::missing_safety_doc)]
 
 use std::ffi::CString;
 use std::os::raw::c_char;
@@ -24,7 +24,7 @@ use crate::fmi::c_boundary::{
     array, array_mut, component, deserialize_state, free_state, get_state, null, run,
     serialize_state, set_state, state_size, string, Component, COMPONENT_MAGIC,
 };
-use crate::fmi::{Call, Instance, Logger, NoLogger, Status};
+use crate::fmi::{Call, Instance, Interface, Logger, NoLogger, Status};
 
 /// The importer's logger callback, called with the format `"%s"` and the message as its one
 /// argument, so that a `%` in a message is never interpreted.
@@ -115,12 +115,16 @@ pub unsafe extern "C" fn fmi2Instantiate(
             refuse(why);
             return None;
         }
-        if fmuType != fmi2CoSimulation {
-            refuse(format!(
-                "fmuType = {fmuType}: this FMU implements only fmi2CoSimulation ({fmi2CoSimulation})"
-            ));
-            return None;
-        }
+        let interface = match fmuType {
+            fmi2CoSimulation => Interface::CoSimulation,
+            fmi2ModelExchange => Interface::ModelExchange,
+            _ => {
+                refuse(format!(
+                    "fmuType = {fmuType}: must be fmi2ModelExchange ({fmi2ModelExchange}) or fmi2CoSimulation ({fmi2CoSimulation})"
+                ));
+                return None;
+            }
+        };
         let Some(location) = string(fmuResourceLocation) else {
             refuse("fmuResourceLocation = NULL: must be the file: URI of the FMU's resources folder, e.g. file:///path/to/fmu/resources/".into());
             return None;
@@ -134,6 +138,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         };
         let inst = Instance::instantiate(
             F.call(),
+            interface,
             &name,
             "fmuGUID",
             string(fmuGUID).as_deref(),
@@ -447,16 +452,194 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     c: fmi2Component,
-    _vUnknown_ref: *const fmi2ValueReference,
-    _nUnknown: usize,
-    _vKnown_ref: *const fmi2ValueReference,
-    _nKnown: usize,
-    _dvKnown: *const fmi2Real,
-    _dvUnknown: *mut fmi2Real,
+    vUnknown_ref: *const fmi2ValueReference,
+    nUnknown: usize,
+    vKnown_ref: *const fmi2ValueReference,
+    nKnown: usize,
+    dvKnown: *const fmi2Real,
+    dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
-    call(c, Function::GetDirectionalDerivative, |i, call| {
-        i.get_directional_derivative(call)
+    const F: Function = Function::GetDirectionalDerivative;
+    call(c, F, |inst, call| {
+        let Some(unknowns) = array(vUnknown_ref, nUnknown) else {
+            return null(inst, F.name(), "vUnknown_ref", nUnknown);
+        };
+        let Some(knowns) = array(vKnown_ref, nKnown) else {
+            return null(inst, F.name(), "vKnown_ref", nKnown);
+        };
+        let Some(dv_known) = array(dvKnown, nKnown) else {
+            return null(inst, F.name(), "dvKnown", nKnown);
+        };
+        let Some(dv_unknown) = array_mut(dvUnknown, nUnknown) else {
+            return null(inst, F.name(), "dvUnknown", nUnknown);
+        };
+        inst.get_directional_derivative(call, unknowns, knowns, dv_known, dv_unknown)
     })
+}
+
+// ---- Model Exchange -------------------------------------------------------------------------
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2EnterEventMode(c: fmi2Component) -> fmi2Status {
+    call(c, Function::EnterEventMode, |i, call| {
+        i.enter_event_mode(call)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2NewDiscreteStates(
+    c: fmi2Component,
+    eventInfo: *mut fmi2EventInfo,
+) -> fmi2Status {
+    const F: Function = Function::NewDiscreteStates;
+    call(c, F, |inst, call| {
+        let Some(out) = eventInfo.as_mut() else {
+            return inst.invalid_argument(F.name(), "eventInfo = NULL");
+        };
+        let (status, info) = inst.new_discrete_states(call);
+        if status == Status::Ok {
+            let b = |x: bool| if x { fmi2True } else { fmi2False };
+            *out = fmi2EventInfo {
+                newDiscreteStatesNeeded: fmi2False,
+                terminateSimulation: fmi2False,
+                nominalsOfContinuousStatesChanged: fmi2False,
+                valuesOfContinuousStatesChanged: b(info.values_of_continuous_states_changed),
+                nextEventTimeDefined: b(info.next_event_time.is_some()),
+                nextEventTime: info.next_event_time.unwrap_or(0.0),
+            };
+        }
+        status
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status {
+    call(c, Function::EnterContinuousTimeMode, |i, call| {
+        i.enter_continuous_time_mode(call)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
+    c: fmi2Component,
+    _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+    enterEventMode: *mut fmi2Boolean,
+    terminateSimulation: *mut fmi2Boolean,
+) -> fmi2Status {
+    const F: Function = Function::CompletedIntegratorStep;
+    call(c, F, |inst, call| {
+        let (Some(event), Some(terminate)) =
+            (enterEventMode.as_mut(), terminateSimulation.as_mut())
+        else {
+            return inst.invalid_argument(F.name(), "enterEventMode or terminateSimulation = NULL");
+        };
+        let status = inst.completed_integrator_step(call);
+        if status == Status::Ok {
+            (*event, *terminate) = (fmi2False, fmi2False);
+        }
+        status
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetTime(c: fmi2Component, time: fmi2Real) -> fmi2Status {
+    call(c, Function::SetTime, |i, call| i.set_time(call, time))
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetContinuousStates(
+    c: fmi2Component,
+    x: *const fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    const F: Function = Function::SetContinuousStates;
+    call(c, F, |inst, call| {
+        let Some(x) = array(x, nx) else {
+            return null(inst, F.name(), "x", nx);
+        };
+        inst.set_continuous_states(call, x)
+    })
+}
+
+/// The getters of Model Exchange that fill a vector of `n` reals.
+unsafe fn get_vector(
+    c: fmi2Component,
+    f: Function,
+    arg: &str,
+    out: *mut fmi2Real,
+    n: usize,
+    get: impl FnOnce(&mut Instance, Call, &mut [f64]) -> Status,
+) -> fmi2Status {
+    call(c, f, |inst, call| {
+        let Some(out) = array_mut(out, n) else {
+            return null(inst, f.name(), arg, n);
+        };
+        get(inst, call, out)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetDerivatives(
+    c: fmi2Component,
+    derivatives: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    get_vector(
+        c,
+        Function::GetDerivatives,
+        "derivatives",
+        derivatives,
+        nx,
+        |i, call, out| i.get_derivatives(call, out),
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetEventIndicators(
+    c: fmi2Component,
+    eventIndicators: *mut fmi2Real,
+    ni: usize,
+) -> fmi2Status {
+    get_vector(
+        c,
+        Function::GetEventIndicators,
+        "eventIndicators",
+        eventIndicators,
+        ni,
+        |i, call, out| i.get_event_indicators(call, out),
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetContinuousStates(
+    c: fmi2Component,
+    x: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    get_vector(
+        c,
+        Function::GetContinuousStates,
+        "x",
+        x,
+        nx,
+        |i, call, out| i.get_continuous_states(call, out),
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(
+    c: fmi2Component,
+    x_nominal: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    get_vector(
+        c,
+        Function::GetNominalsOfContinuousStates,
+        "x_nominal",
+        x_nominal,
+        nx,
+        |i, call, out| i.get_nominals(call, out),
+    )
 }
 
 // ---- Co-Simulation --------------------------------------------------------------------------

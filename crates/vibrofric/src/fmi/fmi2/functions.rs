@@ -1,5 +1,6 @@
-//! Every function of the FMI 2.0 Co-Simulation interface and the one table of the states each
-//! may be called in (FMI 2.0, section 4.2.4, the state machine of a Co-Simulation slave).
+//! Every function of the FMI 2.0 Co-Simulation and Model Exchange interfaces and the one table
+//! of the states each may be called in (FMI 2.0, sections 3.2.3 and 4.2.4: the state machines
+//! of a model and of a slave; an instance is in the states of one of them only).
 
 use crate::fmi::state::{Call, State, States, Vocabulary};
 
@@ -38,10 +39,21 @@ pub enum Function {
     GetIntegerStatus,
     GetBooleanStatus,
     GetStringStatus,
+    EnterEventMode,
+    NewDiscreteStates,
+    EnterContinuousTimeMode,
+    CompletedIntegratorStep,
+    SetTime,
+    SetContinuousStates,
+    GetDerivatives,
+    GetEventIndicators,
+    GetContinuousStates,
+    GetNominalsOfContinuousStates,
 }
 
 use State::{
-    Error, InitializationMode as Init, Instantiated, StepComplete, StepFailed, Terminated,
+    ContinuousTimeMode as Continuous, Error, EventMode as Event, InitializationMode as Init,
+    Instantiated, StepComplete, StepFailed, Terminated,
 };
 
 /// Every state but `Fatal`.
@@ -52,12 +64,27 @@ const ANY: States = States::of(&[
     StepFailed,
     Terminated,
     Error,
+    Event,
+    Continuous,
 ]);
 /// Every state: calls that answer (with an error) even after a fatal one.
 const EVERY: States = States::of(&State::ALL);
-const GET: States = States::of(&[Init, StepComplete, StepFailed, Terminated, Error]);
-const SET: States = States::of(&[Instantiated, Init, StepComplete]);
+const GET: States = States::of(&[
+    Init,
+    StepComplete,
+    StepFailed,
+    Terminated,
+    Error,
+    Event,
+    Continuous,
+]);
+/// `fmi2SetReal`: parameters and inputs before initialization ends; then, in Co-Simulation
+/// between steps, in Model Exchange tunable parameters and inputs in event mode and inputs in
+/// continuous-time mode (the instance checks which).
+const SET: States = States::of(&[Instantiated, Init, StepComplete, Event, Continuous]);
 const STATUS: States = States::of(&[StepComplete, StepFailed, Terminated]);
+/// The model's equations, evaluated: from initialization on (FMI 2.0, table of section 3.2.3).
+const EVALUATE: States = States::of(&[Init, Event, Continuous, Terminated, Error]);
 
 impl Function {
     /// The C name.
@@ -96,20 +123,47 @@ impl Function {
             GetIntegerStatus => "fmi2GetIntegerStatus",
             GetBooleanStatus => "fmi2GetBooleanStatus",
             GetStringStatus => "fmi2GetStringStatus",
+            EnterEventMode => "fmi2EnterEventMode",
+            NewDiscreteStates => "fmi2NewDiscreteStates",
+            EnterContinuousTimeMode => "fmi2EnterContinuousTimeMode",
+            CompletedIntegratorStep => "fmi2CompletedIntegratorStep",
+            SetTime => "fmi2SetTime",
+            SetContinuousStates => "fmi2SetContinuousStates",
+            GetDerivatives => "fmi2GetDerivatives",
+            GetEventIndicators => "fmi2GetEventIndicators",
+            GetContinuousStates => "fmi2GetContinuousStates",
+            GetNominalsOfContinuousStates => "fmi2GetNominalsOfContinuousStates",
         }
     }
 
     /// The states the function may be called in. Instantiation and freeing have no state
-    /// before them; `fmi2CancelStep` and `fmi2GetDirectionalDerivative` answer in every state
-    /// (with an error saying why this FMU has nothing for them).
+    /// before them; `fmi2CancelStep` answers in every state (with an error saying why this
+    /// FMU has nothing for it).
     pub const fn allowed(self) -> States {
         use Function::*;
         match self {
-            Instantiate | FreeInstance | CancelStep | GetDirectionalDerivative => EVERY,
+            Instantiate | FreeInstance | CancelStep => EVERY,
             SetDebugLogging | Reset => ANY,
             SetupExperiment | EnterInitializationMode => States::of(&[Instantiated]),
             ExitInitializationMode => States::of(&[Init]),
-            Terminate => States::of(&[StepComplete, StepFailed]),
+            Terminate => States::of(&[StepComplete, StepFailed, Event, Continuous]),
+            GetDirectionalDerivative => States::of(&[
+                Init,
+                StepComplete,
+                StepFailed,
+                Event,
+                Continuous,
+                Terminated,
+                Error,
+            ]),
+            EnterEventMode => States::of(&[Event, Continuous]),
+            NewDiscreteStates | EnterContinuousTimeMode => States::of(&[Event]),
+            CompletedIntegratorStep | SetContinuousStates => States::of(&[Continuous]),
+            SetTime => States::of(&[Event, Continuous]),
+            GetDerivatives | GetEventIndicators | GetContinuousStates => EVALUATE,
+            GetNominalsOfContinuousStates => {
+                States::of(&[Instantiated, Init, Event, Continuous, Terminated, Error])
+            }
             GetReal | GetInteger | GetBoolean | GetString => GET,
             SetReal | SetInteger | SetBoolean | SetString | SetRealInputDerivatives => SET,
             GetFMUstate
@@ -143,6 +197,7 @@ pub static WORDS: Vocabulary = Vocabulary {
     exit_initialization: "fmi2ExitInitializationMode",
     setup_experiment: "fmi2SetupExperiment",
     do_step: "fmi2DoStep",
+    set_states: "fmi2SetContinuousStates",
     last_successful_time: "fmi2LastSuccessfulTime",
     false_: "fmi2False",
     state_arg: "FMUstate",

@@ -149,6 +149,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         };
         let inst = Instance::instantiate(
             F.call(),
+            crate::fmi::Interface::CoSimulation,
             &name,
             "instantiationToken",
             string(instantiationToken).as_deref(),

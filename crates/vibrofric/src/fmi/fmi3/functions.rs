@@ -123,6 +123,7 @@ pub static WORDS: Vocabulary = Vocabulary {
     exit_initialization: "fmi3ExitInitializationMode",
     setup_experiment: "fmi3EnterInitializationMode",
     do_step: "fmi3DoStep",
+    set_states: "fmi3SetContinuousStates",
     last_successful_time: "lastSuccessfulTime of fmi3DoStep",
     false_: "fmi3False",
     state_arg: "FMUState",
