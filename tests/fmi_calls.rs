@@ -36,6 +36,8 @@ fn core_values(scene: &Scene, sim: &dyn Simulator, inputs: &Inputs) -> Vec<f64> 
             (VarKind::Input(i), Causality::Input) => i.get(inputs),
             (VarKind::Input(_), _) => OutputId::FDrive.get(&o),
             (VarKind::Output(id), _) => id.get(&o),
+            (VarKind::State(x), _) => sim.states()[x.index()],
+            (VarKind::Derivative(x), _) => sim.derivatives()[x.index()],
         })
         .collect()
 }
@@ -505,11 +507,15 @@ fn instantiate_refuses_bad_arguments_with_a_log_line() {
             vec!["fmuGUID = NULL", guid.as_str()],
         ),
         (
-            "model exchange",
-            0,
+            "unknown interface",
+            2,
             Some(&guid),
             Some(&res),
-            vec!["fmuType = 0", "fmi2CoSimulation"],
+            vec![
+                "fmuType = 2",
+                "fmi2ModelExchange (0)",
+                "fmi2CoSimulation (1)",
+            ],
         ),
     ];
     for (what, ty, g, r, words) in cases {

@@ -124,6 +124,8 @@ struct Var {
     initial: Option<String>,
     start: Option<f64>,
     unit: String,
+    /// The 1-based index of the state a derivative belongs to.
+    derivative: Option<usize>,
 }
 
 /// What the tests need of a parsed model description.
@@ -136,6 +138,8 @@ struct Parsed {
     /// (index, dependencies) of Outputs and InitialUnknowns.
     outputs: Vec<(usize, Option<Vec<usize>>)>,
     initial: Vec<(usize, Option<Vec<usize>>)>,
+    derivatives: Vec<(usize, Option<Vec<usize>>)>,
+    me: BTreeMap<String, String>,
 }
 
 fn attrs(e: &quick_xml::events::BytesStart) -> BTreeMap<String, String> {
@@ -169,7 +173,7 @@ fn parse(xml: &str) -> Parsed {
                 if name == "ScalarVariable" {
                     p.vars.push(current.take().unwrap());
                 }
-                if name == "Outputs" || name == "InitialUnknowns" {
+                if name == "Outputs" || name == "InitialUnknowns" || name == "Derivatives" {
                     section.clear();
                 }
                 continue;
@@ -183,6 +187,7 @@ fn parse(xml: &str) -> Parsed {
         match name.as_str() {
             "fmiModelDescription" => p.root = a,
             "CoSimulation" => p.cs = a,
+            "ModelExchange" => p.me = a,
             "Unit" => p.units.push(a["name"].clone()),
             "ScalarVariable" => {
                 current = Some(Var {
@@ -193,14 +198,16 @@ fn parse(xml: &str) -> Parsed {
                     initial: a.get("initial").cloned(),
                     start: None,
                     unit: String::new(),
+                    derivative: None,
                 })
             }
             "Real" => {
                 let v = current.as_mut().expect("Real inside ScalarVariable");
                 v.start = a.get("start").map(|s| s.parse().unwrap());
                 v.unit = a["unit"].clone();
+                v.derivative = a.get("derivative").map(|d| d.parse().unwrap());
             }
-            "Outputs" | "InitialUnknowns" => section = name.clone(),
+            "Outputs" | "InitialUnknowns" | "Derivatives" => section = name.clone(),
             "Unknown" => {
                 let index = a["index"].parse().unwrap();
                 let deps = a.get("dependencies").map(|d| {
@@ -211,6 +218,7 @@ fn parse(xml: &str) -> Parsed {
                 match section.as_str() {
                     "Outputs" => p.outputs.push((index, deps)),
                     "InitialUnknowns" => p.initial.push((index, deps)),
+                    "Derivatives" => p.derivatives.push((index, deps)),
                     s => panic!("Unknown outside Outputs/InitialUnknowns ({s})"),
                 }
             }
@@ -222,10 +230,6 @@ fn parse(xml: &str) -> Parsed {
     }
     assert_eq!(depth, 0, "unbalanced XML");
     p
-}
-
-fn names(p: &Parsed) -> Vec<&str> {
-    p.vars.iter().map(|v| v.name.as_str()).collect()
 }
 
 #[test]
@@ -276,7 +280,7 @@ fn descriptions_are_well_formed_and_model_structure_is_consistent() {
                     assert!(v.start.is_some(), "{file}: {}", v.name);
                     assert_eq!(v.variability, "continuous");
                 }
-                "output" => {
+                "output" | "local" => {
                     assert_eq!(v.initial.as_deref(), Some("calculated"));
                     assert_eq!(v.start, None, "{file}: {}", v.name);
                     assert_eq!(v.variability, "continuous");
@@ -285,7 +289,45 @@ fn descriptions_are_well_formed_and_model_structure_is_consistent() {
             }
         }
 
-        // Outputs: exactly the output variables, sorted by index; dependencies on inputs only.
+        // Model Exchange: the states are the variables a derivative names; Derivatives lists
+        // every derivative in index order; event indicators as the configuration has them.
+        assert_eq!(p.me["modelIdentifier"], s.model_identifier);
+        assert_eq!(p.me["providesDirectionalDerivative"], "true");
+        assert_eq!(
+            p.root["numberOfEventIndicators"],
+            s.config.event_indicators().to_string()
+        );
+        let states: Vec<usize> = p.vars.iter().filter_map(|v| v.derivative).collect();
+        let der_idx: Vec<usize> = p
+            .vars
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.derivative.is_some())
+            .map(|(i, _)| i + 1)
+            .collect();
+        let listed: Vec<usize> = p.derivatives.iter().map(|(i, _)| *i).collect();
+        assert_eq!(listed, der_idx, "{file}: ModelStructure/Derivatives");
+        assert!(!states.is_empty(), "{file}: no continuous states");
+        for &x in &states {
+            assert_eq!(p.vars[x - 1].causality, "local", "{file}: state {x}");
+        }
+        let known = |d: usize| p.vars[d - 1].causality == "input" || states.contains(&d);
+        for (i, deps) in p.derivatives.iter().chain(&p.outputs) {
+            let deps = deps
+                .as_ref()
+                .expect("Derivatives and Outputs state their dependencies");
+            for &d in deps {
+                assert!(
+                    known(d),
+                    "{file}: {} depends on {}, not an input or a state",
+                    p.vars[i - 1].name,
+                    p.vars[d - 1].name
+                );
+            }
+        }
+
+        // Outputs: exactly the output variables, sorted by index; dependencies on inputs and
+        // states only.
         let out_idx: Vec<usize> = p
             .vars
             .iter()
@@ -301,19 +343,19 @@ fn descriptions_are_well_formed_and_model_structure_is_consistent() {
                 deps.windows(2).all(|w| w[0] < w[1]),
                 "{file}: {i}: {deps:?}"
             );
-            for d in deps {
-                assert_eq!(
-                    p.vars[d - 1].causality,
-                    "input",
-                    "{file}: output {} depends on {}",
-                    p.vars[i - 1].name,
-                    p.vars[d - 1].name
-                );
-            }
         }
-        // InitialUnknowns: every calculated output; dependencies on inputs and exact parameters.
+        // InitialUnknowns: every calculated output, state and derivative; dependencies on
+        // inputs and exact parameters.
         let init_idx: Vec<usize> = p.initial.iter().map(|(i, _)| *i).collect();
-        assert_eq!(init_idx, out_idx, "{file}: ModelStructure/InitialUnknowns");
+        let mut want = out_idx.clone();
+        want.extend(
+            p.vars
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.causality == "local")
+                .map(|(i, _)| i + 1),
+        );
+        assert_eq!(init_idx, want, "{file}: ModelStructure/InitialUnknowns");
         for (i, deps) in &p.initial {
             if let Some(deps) = deps {
                 assert!(
@@ -336,10 +378,50 @@ fn descriptions_are_well_formed_and_model_structure_is_consistent() {
 
 #[test]
 fn each_scene_has_exactly_the_variables_spec_3_implies() {
+    // Parameters, inputs and outputs (the states of Model Exchange below).
     let expect = |file: &str, want: &[&str]| {
         let p = parse(&xml::model_description(&scene(file)));
-        assert_eq!(names(&p), want, "scenes/{file}");
+        let named: Vec<&str> = p
+            .vars
+            .iter()
+            .filter(|v| v.causality != "local")
+            .map(|v| v.name.as_str())
+            .collect();
+        assert_eq!(named, want, "scenes/{file}");
     };
+    let states = |file: &str| -> Vec<String> {
+        let p = parse(&xml::model_description(&scene(file)));
+        let idx: Vec<usize> = p.vars.iter().filter_map(|v| v.derivative).collect();
+        idx.iter().map(|i| p.vars[i - 1].name.clone()).collect()
+    };
+    // A planar force drive integrates deformation and body; a longitudinal velocity drive
+    // only the deformation and the imposed position; both the window's integral.
+    assert_eq!(
+        states("contact.toml"),
+        [
+            "contact.s_x",
+            "contact.s_y",
+            "body.x",
+            "body.y",
+            "body.v_x",
+            "body.v_y",
+            "window.F_int"
+        ]
+    );
+    assert_eq!(
+        states("paper-longitudinal.toml"),
+        ["contact.s_x", "body.x", "window.F_int"]
+    );
+    assert_eq!(
+        states("rig-longitudinal.toml"),
+        [
+            "contact.s_x",
+            "body.x",
+            "body.v_x",
+            "drive.x_d",
+            "window.F_int"
+        ]
+    );
     let outputs_planar = [
         "F_Fx",
         "F_Fy",
@@ -652,7 +734,8 @@ fn initial_unknowns_of_lugre_depend_on_the_relative_velocity() {
     // Dahl at rest: F_F = k_t·s = 0.
     let d = parse(&xml::model_description(&scene("contact.toml")));
     assert!(d.initial.iter().all(|(i, deps)| {
-        d.vars[i - 1].name == "reduction" || deps.as_ref().unwrap().is_empty()
+        let v = &d.vars[i - 1];
+        v.name == "reduction" || v.derivative.is_some() || deps.as_ref().unwrap().is_empty()
     }));
 }
 
@@ -773,7 +856,7 @@ fn perturbed(x: f64) -> [f64; 3] {
 
 #[test]
 fn initial_unknown_dependencies_hold_in_the_core() {
-    use vibrofric::description::variables::{Causality, VarKind};
+    use vibrofric::description::variables::VarKind;
     use vibrofric::model::build;
     for (file, s) in scenes() {
         let at_start = |params: vibrofric::physics::Params, inputs: vibrofric::model::Inputs| {
@@ -787,7 +870,7 @@ fn initial_unknown_dependencies_hold_in_the_core() {
         };
         let base = at_start(s.start, s.inputs);
         for known in s.variables() {
-            if known.causality(&s.config) == Causality::Output {
+            if !known.settable(&s.config) {
                 continue;
             }
             for value in perturbed(s.start_of(known).unwrap()) {
@@ -799,7 +882,7 @@ fn initial_unknown_dependencies_hold_in_the_core() {
                         }
                     }
                     VarKind::Input(i) => *i.slot(&mut inputs) = value,
-                    VarKind::Output(_) => unreachable!(),
+                    _ => unreachable!("only parameters and inputs are settable"),
                 }
                 let changed = at_start(params, inputs);
                 for ((vr, a), (_, b)) in base.iter().zip(&changed) {
@@ -823,7 +906,7 @@ fn initial_unknown_dependencies_hold_in_the_core() {
 
 #[test]
 fn output_dependencies_hold_in_the_core() {
-    use vibrofric::description::variables::Causality;
+    use vibrofric::description::variables::{Causality, VarKind};
     use vibrofric::model::{build, InputId};
     for (file, s) in scenes() {
         let mut sim = build(s.config, s.start, 0.0, 1e-6).unwrap();
@@ -858,6 +941,27 @@ fn output_dependencies_hold_in_the_core() {
                     "{file}: {} changes at once with {} ({a} -> {b}) but ModelStructure/Outputs does not list it",
                     out.name(),
                     i.name()
+                );
+            }
+        }
+        // Model Exchange: an output that changes with a continuous state lists it.
+        for v in s.variables() {
+            let VarKind::State(x) = v.kind else { continue };
+            let mut other = sim.clone_box();
+            let mut states = other.states();
+            states[x.index()] = states[x.index()] * 1.5 + 1e-8;
+            other.set_states(&states).unwrap();
+            let changed = output_values(&s, &other.outputs());
+            for ((vr, a), (_, b)) in base.iter().zip(&changed) {
+                if a.to_bits() == b.to_bits() || (a - b).abs() <= 1e-12 * a.abs() {
+                    continue;
+                }
+                let out = VARIABLES.iter().find(|v| v.vr == *vr).unwrap();
+                assert!(
+                    out.known_dependencies(&s.config, &s.outputs).contains(&x.vr()),
+                    "{file}: {} changes with the state {} ({a} -> {b}) but ModelStructure/Outputs does not list it",
+                    out.name(),
+                    x.name()
                 );
             }
         }

@@ -40,13 +40,18 @@ fn described_scenes() -> Vec<(Scene, Fmi2ModelDescription)> {
 }
 
 #[test]
-fn descriptions_are_fmi2_co_simulation_of_their_scene() {
+fn descriptions_are_fmi2_co_simulation_and_model_exchange_of_their_scene() {
     for (scene, md) in described_scenes() {
         assert_eq!(md.fmi_version, "2.0");
         assert_eq!(md.model_name, scene.model_identifier);
         let cs = md.co_simulation.as_ref().expect("a CoSimulation element");
         assert_eq!(cs.model_identifier, scene.model_identifier);
-        assert!(md.model_exchange.is_none());
+        let me = md.model_exchange.as_ref().expect("a ModelExchange element");
+        assert_eq!(me.model_identifier, scene.model_identifier);
+        assert_eq!(
+            md.number_of_event_indicators,
+            Some(scene.config.event_indicators() as u32)
+        );
         assert_eq!(md.description.as_deref(), Some(scene.description.as_str()));
     }
 }
@@ -67,6 +72,7 @@ fn every_variable_is_the_table_row_of_its_scene() {
                 Causality::Parameter => SchemaCausality::Parameter,
                 Causality::Input => SchemaCausality::Input,
                 Causality::Output => SchemaCausality::Output,
+                Causality::Local => SchemaCausality::Local,
             };
             assert_eq!(v.causality, causality, "{id}");
             let variability = v.variability.as_ref().map(|x| x.to_string());
@@ -115,7 +121,7 @@ fn model_structure_lists_the_declared_dependencies() {
         assert_eq!(listed, outputs, "{}", scene.model_identifier);
         for u in &md.model_structure.outputs.unknowns {
             let row = scene.variables().find(|r| r.vr == vr_at(u.index)).unwrap();
-            let mut declared: Vec<u32> = row.input_dependencies(c).iter().map(|i| i.vr()).collect();
+            let mut declared = row.known_dependencies(c, &scene.outputs);
             let mut written: Vec<u32> = u.dependencies.iter().map(|&i| vr_at(i)).collect();
             declared.sort_unstable();
             written.sort_unstable();
@@ -127,11 +133,45 @@ fn model_structure_lists_the_declared_dependencies() {
                 row.name()
             );
             for &d in &u.dependencies {
-                assert_eq!(vars[d as usize - 1].causality, SchemaCausality::Input);
+                assert!(matches!(
+                    vars[d as usize - 1].causality,
+                    SchemaCausality::Input | SchemaCausality::Local
+                ));
             }
+        }
+        // Model Exchange: every derivative, in the order of the states, with its dependencies.
+        let derivatives: Vec<u32> = scene
+            .variables()
+            .filter(|r| r.derivative_of().is_some())
+            .map(|r| r.vr)
+            .collect();
+        let listed: Vec<u32> = md
+            .model_structure
+            .derivatives
+            .unknowns
+            .iter()
+            .map(|u| vr_at(u.index))
+            .collect();
+        assert_eq!(listed, derivatives, "{}", scene.model_identifier);
+        for u in &md.model_structure.derivatives.unknowns {
+            let row = scene.variables().find(|r| r.vr == vr_at(u.index)).unwrap();
+            let mut declared = row.known_dependencies(c, &scene.outputs);
+            let mut written: Vec<u32> = u.dependencies.iter().map(|&i| vr_at(i)).collect();
+            declared.sort_unstable();
+            written.sort_unstable();
+            assert_eq!(
+                written,
+                declared,
+                "{} {}",
+                scene.model_identifier,
+                row.name()
+            );
         }
         for u in &md.model_structure.initial_unknowns.unknowns {
             let row = scene.variables().find(|r| r.vr == vr_at(u.index)).unwrap();
+            if row.derivative_of().is_some() {
+                continue; // no dependencies attribute: all knowns
+            }
             let mut declared: Vec<u32> =
                 row.initial_dependencies(c).iter().map(|d| d.vr()).collect();
             let mut written: Vec<u32> = u.dependencies.iter().map(|&i| vr_at(i)).collect();
@@ -194,6 +234,7 @@ fn fmi3_descriptions_are_the_table_rows_too() {
                 Causality::Parameter => C3::Parameter,
                 Causality::Input => C3::Input,
                 Causality::Output => C3::Output,
+                Causality::Local => C3::Local,
             };
             assert_eq!(v.causality(), causality, "{id} {}", row.name());
             let start = v.start().and_then(|s| s.first().copied());
@@ -212,16 +253,23 @@ fn fmi3_descriptions_are_the_table_rows_too() {
                         .variables()
                         .find(|r| r.vr == u.value_reference)
                         .unwrap();
-                    (
-                        u,
-                        row.input_dependencies(c).iter().map(|i| i.vr()).collect(),
-                    )
+                    (u, row.known_dependencies(c, &scene.outputs))
+                }
+                VariableDependency::ContinuousStateDerivative(u) => {
+                    let row = scene
+                        .variables()
+                        .find(|r| r.vr == u.value_reference)
+                        .unwrap();
+                    (u, row.known_dependencies(c, &scene.outputs))
                 }
                 VariableDependency::InitialUnknown(u) => {
                     let row = scene
                         .variables()
                         .find(|r| r.vr == u.value_reference)
                         .unwrap();
+                    if row.derivative_of().is_some() {
+                        continue;
+                    }
                     (
                         u,
                         row.initial_dependencies(c).iter().map(|d| d.vr()).collect(),

@@ -20,51 +20,11 @@
 
 use super::contact::Contact;
 use super::drive::{DriveInputs, DriveKind};
-use super::simulator::SimError;
+use super::simulator::{EventUpdate, Exchange, SimError, StateVector};
 use super::time::TIME_SNAP;
 use crate::physics::{FrictionLaw, LawJacobian, Vector};
 use crate::solver::OdeSystem;
 use crate::table::{Drive, InputId, Inputs, Outputs, StateId};
-
-/// Values indexed by [`StateId::index`] (0 where the configuration has no such state).
-pub type StateVector = [f64; StateId::COUNT];
-
-/// What an event update did.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EventUpdate {
-    /// A continuous state jumped (a window restarted `F_int`, a lift-off cleared `s`).
-    pub states_changed: bool,
-    /// The next time event (the end of the averaging window), in the importer's time.
-    pub next_time: Option<f64>,
-}
-
-/// The contact as Model Exchange sees it. Every method that returns an error leaves the
-/// contact as it was.
-pub trait Exchange {
-    /// The continuous states now.
-    fn states(&self) -> StateVector;
-    /// Sets the states the configuration has (the others are ignored).
-    fn set_states(&mut self, x: &StateVector) -> Result<(), SimError>;
-    /// The states' derivatives at the current time, states and inputs.
-    fn derivatives(&self) -> StateVector;
-    /// Nominal magnitudes of the states.
-    fn nominals(&self) -> StateVector;
-    /// Moves the contact to the importer's time `t` (the inputs hold; the imposed position
-    /// moves with them).
-    fn set_time(&mut self, t: f64) -> Result<(), SimError>;
-    /// Sets an input from the current time on. Unlike [`super::Simulator::set_input`], a normal
-    /// force crossing the lift-off load changes nothing until the event update.
-    fn set_input_continuous(&mut self, id: InputId, value: f64) -> Result<(), SimError>;
-    /// The event indicators, [`crate::table::Config::event_indicators`] of them.
-    fn event_indicators(&self, z: &mut [f64]);
-    /// The event update at the current time: completes the windows that have ended, takes the
-    /// sides of the switching functions, lifts the body off or lands it.
-    fn update_events(&mut self) -> EventUpdate;
-    /// The directional derivative of the derivatives and of the outputs along a change `dx` of
-    /// the states and `du` of the inputs, in closed form (forward mode through the law's
-    /// partial derivatives).
-    fn tangent(&self, dx: &StateVector, du: &Inputs) -> (StateVector, Outputs);
-}
 
 /// Where a state lives in the contact.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -238,8 +198,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
         let t = self.radau.t;
         let g = OdeSystem::<N>::switch(&self.system(), t, &self.radau.y);
         let n = self.n_switch();
-        for k in 0..n {
-            z[k] = g[k] + self.sides[k] * self.band(k);
+        for (k, (zk, gk)) in z.iter_mut().zip(g).take(n).enumerate() {
+            *zk = gk + self.sides[k] * self.band(k);
         }
         if self.dynamics.load.is_some() {
             z[n] = self.dynamics.tracks[InputId::FN.index()].at(t) - self.dynamics.lift_off;
@@ -262,9 +222,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
         // The sides of the switching functions: a function that left the band (or has no side
         // yet) takes the side it is on.
         let g = OdeSystem::<N>::switch(&self.system(), t, &self.radau.y);
-        for k in 0..self.n_switch() {
-            if self.sides[k] == 0.0 || g[k] * self.sides[k] < -self.band(k) {
-                self.sides[k] = if g[k] < 0.0 { -1.0 } else { 1.0 };
+        for (k, &gk) in g.iter().enumerate().take(self.n_switch()) {
+            if self.sides[k] == 0.0 || gk * self.sides[k] < -self.band(k) {
+                self.sides[k] = if gk < 0.0 { -1.0 } else { 1.0 };
             }
         }
         // Lift-off and landing.

@@ -33,9 +33,10 @@ mod window;
 pub use crate::table::{
     Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId, Outputs, StateId,
 };
-pub use exchange::{EventUpdate, Exchange, StateVector};
 pub use ode::Ode;
-pub use simulator::{Path, SimError, Simulator, StepStats, TOLERANCE_RANGE};
+pub use simulator::{
+    EventUpdate, Exchange, Path, SimError, Simulator, StateVector, StepStats, TOLERANCE_RANGE,
+};
 pub use state::{ContactState, StepMeanState, WindowState};
 pub use time::{canonical_time, MAX_INPUT_RATE};
 

@@ -1,12 +1,11 @@
 //! The object-safe face of a contact: what the FMU layer and the tests step.
 
-use super::exchange::Exchange;
 use super::ode::Ode;
 use super::state::ContactState;
 use super::time::MAX_INPUT_RATE;
 use crate::physics::{ParamError, ParamId, Params};
 use crate::solver::SolverError;
-use crate::table::{Config, InputId, Inputs, OutputId, Outputs};
+use crate::table::{Config, InputId, Inputs, OutputId, Outputs, StateId};
 
 /// Why a simulator refused a call. The simulator is unchanged when an error is returned.
 #[derive(Clone, Debug, PartialEq)]
@@ -161,3 +160,43 @@ pub enum Path {
 /// rounding of the sums dominates (the fast paths floor at 1e-13 and 1e-14 anyway) and Radau's
 /// work grows without bound; above 1e-2 the error estimates no longer describe the error.
 pub const TOLERANCE_RANGE: (f64, f64) = (1e-12, 1e-2);
+
+/// Values indexed by [`StateId::index`] (0 where the configuration has no such state).
+pub type StateVector = [f64; StateId::COUNT];
+
+/// What an event update did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EventUpdate {
+    /// A continuous state jumped (a window restarted `F_int`, a lift-off cleared `s`).
+    pub states_changed: bool,
+    /// The next time event (the end of the averaging window), in the importer's time.
+    pub next_time: Option<f64>,
+}
+
+/// The contact as Model Exchange sees it. Every method that returns an error leaves the
+/// contact as it was.
+pub trait Exchange {
+    /// The continuous states now.
+    fn states(&self) -> StateVector;
+    /// Sets the states the configuration has (the others are ignored).
+    fn set_states(&mut self, x: &StateVector) -> Result<(), SimError>;
+    /// The states' derivatives at the current time, states and inputs.
+    fn derivatives(&self) -> StateVector;
+    /// Nominal magnitudes of the states.
+    fn nominals(&self) -> StateVector;
+    /// Moves the contact to the importer's time `t` (the inputs hold; the imposed position
+    /// moves with them).
+    fn set_time(&mut self, t: f64) -> Result<(), SimError>;
+    /// Sets an input from the current time on. Unlike [`Simulator::set_input`], a normal
+    /// force crossing the lift-off load changes nothing until the event update.
+    fn set_input_continuous(&mut self, id: InputId, value: f64) -> Result<(), SimError>;
+    /// The event indicators, [`crate::table::Config::event_indicators`] of them.
+    fn event_indicators(&self, z: &mut [f64]);
+    /// The event update at the current time: completes the windows that have ended, takes the
+    /// sides of the switching functions, lifts the body off or lands it.
+    fn update_events(&mut self) -> EventUpdate;
+    /// The directional derivative of the derivatives and of the outputs along a change `dx` of
+    /// the states and `du` of the inputs, in closed form (forward mode through the law's
+    /// partial derivatives).
+    fn tangent(&self, dx: &StateVector, du: &Inputs) -> (StateVector, Outputs);
+}

@@ -1,0 +1,297 @@
+"""Model Exchange of the FMI 2.0 FMUs through fmpy: its CVode integrates the contact's states
+and must agree with the FMU's own Co-Simulation solver on every scene, on a stiff contact and on
+a stuck drill string; the closed-form directional derivatives must match differences of the
+derivatives; bad input is refused as in Co-Simulation.
+
+The agreement bound: both runs solve the same equations with relative tolerance RTOL, CVode
+(variable order BDF) and the FMU's Radau IIA or closed form; the global error of each is a
+modest multiple of the tolerance times the solution's scale, so the two agree within
+BOUND = 2000 * RTOL of each output's scale (its largest magnitude in the run, or the scale of
+its kind where the output stays near 0)."""
+
+import shutil
+
+import numpy as np
+import pytest
+from conftest import DIST, fmu_path
+from fmpy import extract, read_model_description, simulate_fmu
+from fmpy.fmi2 import FMU2Model
+
+RTOL = 1e-8
+BOUND = 2000 * RTOL
+SCENES = sorted(p.stem for p in DIST.glob("*.fmu"))
+STEP_MEANS = {"F_Fx_step", "F_Fy_step"}  # over communication steps: Co-Simulation only
+
+
+def outputs(path):
+    md = read_model_description(path)
+    return [v.name for v in md.modelVariables if v.causality == "output"]
+
+
+def run(path, kind, stop, interval, **kw):
+    names = outputs(path)
+    return names, simulate_fmu(
+        path,
+        fmi_type=kind,
+        stop_time=stop,
+        output_interval=interval,
+        relative_tolerance=RTOL,
+        output=names,
+        **kw,
+    )
+
+
+def at_times(me, times):
+    """The Model Exchange rows at the Co-Simulation times (the last row at an event)."""
+    return [np.nonzero(np.abs(me["time"] - t) <= 1e-12 * max(1.0, t))[0][-1] for t in times]
+
+
+def worst_disagreement(path, stop, interval, floors=None, **kw):
+    names, me = run(path, "ModelExchange", stop, interval, **kw)
+    _, cs = run(path, "CoSimulation", stop, interval, **kw)
+    rows = at_times(me, cs["time"])
+    worst = []
+    for n in names:
+        if n in STEP_MEANS:
+            continue
+        a, b = me[n][rows], cs[n]
+        scale = max(np.max(np.abs(b)), (floors or {}).get(n, 0.0), 1e-300)
+        worst.append((float(np.max(np.abs(a - b)) / scale), n))
+    return max(worst), me, cs
+
+
+@pytest.mark.parametrize("name", SCENES)
+def test_model_exchange_agrees_with_co_simulation(name):
+    path = fmu_path(name)
+    # The lateral position y of a transverse scene is the drift of a vibration, far smaller
+    # than its swing: its scale is the support's amplitude u0 (0.2 um).
+    (err, which), me, _ = worst_disagreement(path, 0.02, 1e-3, floors={"y": 2e-7})
+    print(f"{name}: Model Exchange vs Co-Simulation within {err:.2e} ({which}); {len(me)} rows")
+    assert err <= BOUND, (name, which, err)
+
+
+def test_stiff_contact_k_t_1e11_agrees():
+    path = fmu_path("VibratingContact")
+    (err, which), me, _ = worst_disagreement(
+        path, 0.01, 1e-3, start_values={"k_t": 1e11}, floors={"y": 2e-7}
+    )
+    print(f"k_t = 1e11: within {err:.2e} ({which})")
+    assert err <= BOUND, (which, err)
+
+
+def test_stuck_drill_string_held_released_held():
+    path = fmu_path("DrillStringAxial")
+    # Held at 5 N (below F_C = 11 N), released with 20 N for 0.5 s, held again at 5 N.
+    signal = np.array(
+        [(0.0, 5.0), (0.5, 5.0), (0.5, 20.0), (1.0, 20.0), (1.0, 5.0), (3.0, 5.0)],
+        dtype=[("time", np.float64), ("F_d", np.float64)],
+    )
+    names = outputs(path)
+    kw = dict(stop_time=3.0, output_interval=0.01, relative_tolerance=RTOL, output=names, input=signal)
+    calls = []
+    me = simulate_fmu(path, fmi_type="ModelExchange", fmi_call_logger=calls.append, **kw)
+    cs = simulate_fmu(path, fmi_type="CoSimulation", **kw)
+    rows = at_times(me, cs["time"])
+    t = cs["time"]
+    # Away from the switching instants (where fmpy's Co-Simulation loop takes the input at the
+    # step's start), the two agree.
+    away = (np.abs(t - 0.5) > 0.02) & (np.abs(t - 1.0) > 0.02)
+    for n in ["v_x", "x", "F_Fx", "s_x"]:
+        a, b = me[n][rows][away], cs[n][away]
+        scale = np.max(np.abs(cs[n]))
+        err = np.max(np.abs(a - b)) / scale
+        print(f"{n}: within {err:.2e} of {scale:.3g}")
+        assert err <= BOUND, (n, err)
+    # Held: at rest, the contact holds the drive (F_Fx = F_d).
+    held = (t > 0.3) & (t < 0.49)
+    assert np.max(np.abs(me["v_x"][rows][held])) < 1e-6
+    assert np.max(np.abs(me["F_Fx"][rows][held] - 5.0)) < 1e-4
+    # Released: it slides; held again: it stops and sticks to the end.
+    assert me["v_x"][rows][np.argmin(np.abs(t - 1.0))] > 0.1
+    assert np.max(np.abs(me["v_x"][rows][t > 2.5])) < 1e-6
+    # No chattering at the stuck contact: the event updates are the time events at the ends of
+    # the averaging windows (T_avg = 1 ms) and a handful of state events (the body stopping).
+    event_times, now = [], 0.0
+    for c in calls:
+        if c.startswith("fmi2SetTime("):
+            now = float(c.split("time=")[1].split(")")[0])
+        elif c.startswith("fmi2NewDiscreteStates("):
+            event_times.append(now)
+    windows = [x for x in event_times if abs(x / 1e-3 - round(x / 1e-3)) < 1e-6]
+    others = len(event_times) - len(windows)
+    print(f"{len(event_times)} event updates: {len(windows)} at window ends, {others} others")
+    assert len(windows) >= 3000 and others <= 20, (len(windows), others)
+
+
+class Model:
+    """An FMI 2.0 Model Exchange instance of an FMU, in continuous-time mode at t = 0."""
+
+    def __init__(self, name, start=None):
+        path = fmu_path(name)
+        self.md = read_model_description(path)
+        self.dir = extract(path)
+        self.fmu = FMU2Model(
+            guid=self.md.guid,
+            unzipDirectory=self.dir,
+            modelIdentifier=self.md.modelExchange.modelIdentifier,
+            instanceName=name,
+        )
+        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+        self.states = [d.variable.derivative.name for d in self.md.derivatives]
+        self.derivatives = [d.variable.name for d in self.md.derivatives]
+        self.nx = len(self.states)
+        f = self.fmu
+        f.instantiate()
+        f.setupExperiment(tolerance=RTOL, startTime=0.0)
+        f.enterInitializationMode()
+        for k, v in (start or {}).items():
+            f.setReal([self.vr[k]], [v])
+        f.exitInitializationMode()
+        f.newDiscreteStates()
+        f.enterContinuousTimeMode()
+
+    def get_states(self):
+        x = np.zeros(self.nx)
+        self.fmu.getContinuousStates(x.ctypes.data_as(_real_p()), self.nx)
+        return x
+
+    def set_states(self, x):
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        return self.fmu.setContinuousStates(x.ctypes.data_as(_real_p()), self.nx)
+
+    def derivatives_at(self, x):
+        self.set_states(x)
+        dx = np.zeros(self.nx)
+        self.fmu.getDerivatives(dx.ctypes.data_as(_real_p()), self.nx)
+        return dx
+
+    def close(self):
+        self.fmu.freeInstance()
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def _real_p():
+    import ctypes
+
+    return ctypes.POINTER(ctypes.c_double)
+
+
+@pytest.mark.parametrize("name", ["VibratingContact", "VibratingContactDupont", "VibratingContactLuGre", "RigLongitudinal", "DrillStringContact"])
+def test_directional_derivatives_match_differences_of_the_derivatives(name):
+    m = Model(name)
+    try:
+        f = m.fmu
+        f.setTime(1.7e-4)
+        inputs = [v.name for v in m.md.modelVariables if v.causality == "input"]
+        for k in inputs:
+            f.setReal([m.vr[k]], [{"F_N": 40.0, "F_d": 3.0, "v_d": 1.2e-3}.get(k, 2e-4)])
+        nominal = np.zeros(m.nx)
+        f.getNominalsOfContinuousStates(nominal.ctypes.data_as(_real_p()), m.nx)
+        x = nominal * np.array([0.4, -0.3, 0.7, 0.2, -0.5, 0.6, 0.1][: m.nx])
+        m.set_states(x)
+        unknowns = [m.vr[d] for d in m.derivatives]
+        for j, s in enumerate(m.states):
+            exact = np.array(f.getDirectionalDerivative(unknowns, [m.vr[s]], [1.0]))
+            h = 1e-6 * nominal[j]
+            e = np.zeros(m.nx)
+            e[j] = h
+            fd = (m.derivatives_at(x + e) - m.derivatives_at(x - e)) / (2 * h)
+            m.set_states(x)
+            scale = np.abs(exact) + np.abs(fd) + 1e-12 * np.max(np.abs(fd))
+            assert np.all(np.abs(exact - fd) <= 1e-5 * scale + 1e-30), (s, exact, fd)
+        for k in inputs:
+            exact = np.array(f.getDirectionalDerivative(unknowns, [m.vr[k]], [1.0]))
+            v = f.getReal([m.vr[k]])[0]
+            h = 1e-6 * max(abs(v), 1e-3)
+            f.setReal([m.vr[k]], [v + h])
+            up = m.derivatives_at(x)
+            f.setReal([m.vr[k]], [v - h])
+            down = m.derivatives_at(x)
+            f.setReal([m.vr[k]], [v])
+            fd = (up - down) / (2 * h)
+            scale = np.abs(exact) + np.abs(fd) + 1e-12 * np.max(np.abs(fd))
+            assert np.all(np.abs(exact - fd) <= 1e-5 * scale + 1e-30), (k, exact, fd)
+    finally:
+        m.close()
+
+
+def test_bad_input_is_refused_naming_the_rule_and_changes_nothing(capfd):
+    m = Model("VibratingContact")
+    try:
+        f = m.fmu
+        x = m.get_states()
+        capfd.readouterr()
+        # A state that is not finite: refused, nothing changes.
+        bad = x.copy()
+        bad[1] = np.nan
+        with pytest.raises(Exception, match="status 3"):
+            m.set_states(bad)
+        out = capfd.readouterr().out
+        assert "contact.s_y = NaN" in out and "must be finite" in out, out
+        assert np.array_equal(m.get_states(), x)
+    finally:
+        m.close()
+    m = Model("VibratingContact")
+    try:
+        f = m.fmu
+        capfd.readouterr()
+        # The wrong number of states.
+        with pytest.raises(Exception, match="status 3"):
+            z = np.zeros(m.nx + 1)
+            f.setContinuousStates(z.ctypes.data_as(_real_p()), m.nx + 1)
+        out = capfd.readouterr().out
+        assert f"nx = {m.nx + 1}" in out and f"has {m.nx} continuous states" in out, out
+    finally:
+        m.close()
+    m = Model("VibratingContact")
+    try:
+        f = m.fmu
+        capfd.readouterr()
+        # A parameter in continuous-time mode; a fixed one is refused in every mode.
+        with pytest.raises(Exception, match="status 3"):
+            f.setReal([m.vr["mu"]], [0.3])
+        out = capfd.readouterr().out
+        assert "ContinuousTimeMode only inputs" in out, out
+    finally:
+        m.close()
+    m = Model("VibratingContact")
+    try:
+        f = m.fmu
+        capfd.readouterr()
+        # An input out of its range.
+        with pytest.raises(Exception, match="status 3"):
+            f.setReal([m.vr["v_sx"]], [np.inf])
+        out = capfd.readouterr().out
+        assert "v_sx = inf" in out, out
+    finally:
+        m.close()
+    m = Model("VibratingContact")
+    try:
+        f = m.fmu
+        capfd.readouterr()
+        # A call out of sequence: the event update belongs to event mode.
+        with pytest.raises(Exception, match="status 3"):
+            f.newDiscreteStates()
+        out = capfd.readouterr().out
+        assert "not allowed in state ContinuousTimeMode" in out, out
+    finally:
+        m.close()
+
+
+def test_saved_state_continues_bit_for_bit_in_a_fresh_instance():
+    a, b = Model("VibratingContactLuGre"), Model("VibratingContactLuGre")
+    try:
+        x = a.get_states() + 1e-9
+        a.fmu.setTime(3e-4)
+        a.set_states(x)
+        saved = a.fmu.serializeFMUstate(a.fmu.getFMUstate())
+        b.fmu.setFMUstate(b.fmu.deSerializeFMUstate(saved))
+        assert np.array_equal(b.get_states(), x)
+        dx_a, dx_b = a.derivatives_at(x), b.derivatives_at(x)
+        assert np.array_equal(dx_a, dx_b)
+        names = outputs(fmu_path("VibratingContactLuGre"))
+        vrs = [a.vr[n] for n in names]
+        assert a.fmu.getReal(vrs) == b.fmu.getReal(vrs)
+    finally:
+        a.close()
+        b.close()
