@@ -340,7 +340,7 @@ fn every_bad_input_class_of_fmi2_is_refused_by_fmi3_naming_the_rule() {
         });
         fmu.refuses(
             "event mode",
-            &["fmi3EnterEventMode", "event mode"],
+            &["fmi3EnterEventMode", "a function of Model Exchange"],
             state,
             &before,
             |f| f.f::<Status0>("fmi3EnterEventMode")(inst),

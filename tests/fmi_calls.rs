@@ -38,6 +38,11 @@ fn core_values(scene: &Scene, sim: &dyn Simulator, inputs: &Inputs) -> Vec<f64> 
             (VarKind::Output(id), _) => id.get(&o),
             (VarKind::State(x), _) => sim.states()[x.index()],
             (VarKind::Derivative(x), _) => sim.derivatives()[x.index()],
+            (VarKind::Indicator(i), _) => {
+                let mut z = [0.0; 3];
+                sim.event_indicators(&mut z[..scene.config.event_indicators()]);
+                z[i.index(&scene.config)]
+            }
         })
         .collect()
 }

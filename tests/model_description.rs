@@ -344,7 +344,8 @@ fn descriptions_are_well_formed_and_model_structure_is_consistent() {
                 "{file}: {i}: {deps:?}"
             );
         }
-        // InitialUnknowns: every calculated output, state and derivative; dependencies on
+        // InitialUnknowns: every calculated output, state and derivative (not the event
+        // indicators, locals of their own); dependencies on
         // inputs and exact parameters.
         let init_idx: Vec<usize> = p.initial.iter().map(|(i, _)| *i).collect();
         let mut want = out_idx.clone();
@@ -352,7 +353,7 @@ fn descriptions_are_well_formed_and_model_structure_is_consistent() {
             p.vars
                 .iter()
                 .enumerate()
-                .filter(|(_, v)| v.causality == "local")
+                .filter(|(i, v)| v.derivative.is_some() || states.contains(&(i + 1)))
                 .map(|(i, _)| i + 1),
         );
         assert_eq!(init_idx, want, "{file}: ModelStructure/InitialUnknowns");

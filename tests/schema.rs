@@ -275,6 +275,13 @@ fn fmi3_descriptions_are_the_table_rows_too() {
                         row.initial_dependencies(c).iter().map(|d| d.vr()).collect(),
                     )
                 }
+                VariableDependency::EventIndicator(u) => {
+                    let row = scene
+                        .variables()
+                        .find(|r| r.vr == u.value_reference)
+                        .unwrap();
+                    (u, row.known_dependencies(c, &scene.outputs))
+                }
                 other => panic!("{id}: unexpected {other:?}"),
             };
             let mut written: Vec<u32> =

@@ -11,7 +11,8 @@ use std::sync::LazyLock;
 
 pub use crate::table::Variability;
 use crate::table::{
-    Config, Dependency, Drive, InputId, Inputs, Known, OutputId, ParamId, Params, StateId,
+    Config, Dependency, Drive, IndicatorId, InputId, Inputs, Known, OutputId, ParamId, Params,
+    StateId,
 };
 
 /// What a variable is bound to in the model.
@@ -24,6 +25,8 @@ pub enum VarKind {
     State(StateId),
     /// The derivative of a continuous state (a local variable).
     Derivative(StateId),
+    /// An event indicator of Model Exchange (a local variable).
+    Indicator(IndicatorId),
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -86,6 +89,7 @@ impl Variable {
                 None,
                 x.derivative_description(),
             ),
+            VarKind::Indicator(i) => (i.vr(), i.unit(), None, i.description()),
         };
         Variable {
             vr,
@@ -103,6 +107,7 @@ impl Variable {
             VarKind::Output(o) => o.name(),
             VarKind::State(x) => x.name(),
             VarKind::Derivative(x) => x.derivative_name(),
+            VarKind::Indicator(i) => i.name(),
         }
     }
 
@@ -115,7 +120,7 @@ impl Variable {
             VarKind::Input(InputId::FD) if c.drive == Drive::Spring => Causality::Output,
             VarKind::Input(_) => Causality::Input,
             VarKind::Output(_) => Causality::Output,
-            VarKind::State(_) | VarKind::Derivative(_) => Causality::Local,
+            VarKind::State(_) | VarKind::Derivative(_) | VarKind::Indicator(_) => Causality::Local,
         }
     }
 
@@ -147,6 +152,7 @@ impl Variable {
             VarKind::Input(i) => i.present(c),
             VarKind::Output(o) => o.present(c) && outputs.contains(&o),
             VarKind::State(x) | VarKind::Derivative(x) => x.present(c, outputs),
+            VarKind::Indicator(i) => i.present(c),
         }
     }
 
@@ -207,13 +213,18 @@ impl Variable {
         self.output(c).map_or(vec![], |o| o.depends().direct(c))
     }
 
-    /// Value references of the knowns (inputs, continuous states) an output or a state
-    /// derivative depends on during the simulation: the `dependencies` of
-    /// `ModelStructure/Outputs` and `Derivatives`.
+    /// Value references of the knowns (inputs, continuous states) an output, a state
+    /// derivative or an event indicator depends on during the simulation: the `dependencies`
+    /// of `ModelStructure/Outputs`, `Derivatives` (FMI 3.0: `ContinuousStateDerivative`) and
+    /// FMI 3.0's `EventIndicator`.
     pub fn known_dependencies(&self, c: &Config, outputs: &[OutputId]) -> Vec<u32> {
-        if let Some(x) = self.derivative_of() {
-            return x
-                .derivative_dependencies(c, outputs)
+        let knowns = match self.kind {
+            VarKind::Derivative(x) => Some(x.derivative_dependencies(c, outputs)),
+            VarKind::Indicator(i) => Some(i.dependencies(c, outputs)),
+            _ => None,
+        };
+        if let Some(knowns) = knowns {
+            return knowns
                 .into_iter()
                 .map(|k| match k {
                     Known::State(s) => s.vr(),
@@ -246,7 +257,8 @@ pub static VARIABLES: LazyLock<Vec<Variable>> = LazyLock::new(|| {
         .chain(InputId::ALL.into_iter().map(VarKind::Input))
         .chain(OutputId::ALL.into_iter().map(VarKind::Output))
         .chain(StateId::ALL.into_iter().map(VarKind::State))
-        .chain(StateId::ALL.into_iter().map(VarKind::Derivative));
+        .chain(StateId::ALL.into_iter().map(VarKind::Derivative))
+        .chain(IndicatorId::ALL.into_iter().map(VarKind::Indicator));
     let mut rows: Vec<Variable> = vec![];
     for kind in kinds {
         let row = Variable::of(kind);

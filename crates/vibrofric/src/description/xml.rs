@@ -46,6 +46,7 @@ fn base_unit(unit: &str) -> Option<[i32; 4]> {
         "N.s/m" => [1, 0, -1, 0],
         "N.s" => [1, 1, -1, 0],
         "m/s2" => [0, 1, -2, 0],
+        "m2/s" => [0, 2, -1, 0],
         "Hz" => [0, 0, -1, 0],
         "W" => [1, 2, -3, 0],
         "1" => [0, 0, 0, 0],
@@ -61,8 +62,8 @@ pub const DISPLAY_UNITS: [(&str, &str, f64); 3] = [
 ];
 
 /// Order of `UnitDefinitions`.
-const UNIT_ORDER: [&str; 13] = [
-    "1", "kg", "m", "m/s", "m/s2", "N", "N.s", "N/m", "N.s/m", "W", "Hz", "s", "rad",
+const UNIT_ORDER: [&str; 14] = [
+    "1", "kg", "m", "m/s", "m/s2", "m2/s", "N", "N.s", "N/m", "N.s/m", "W", "Hz", "s", "rad",
 ];
 
 /// A number as the model description writes it: shortest round-trip form, with an exponent for

@@ -1,11 +1,12 @@
-//! The FMI 3.0 Co-Simulation `modelDescription.xml` of a scene, from the same rows as the FMI 2.0
-//! one ([`super::xml`]): the same variables, value references, units, ranges, start values and
-//! dependencies, written in FMI 3.0's vocabulary.
+//! The FMI 3.0 `modelDescription.xml` of a scene (Model Exchange and Co-Simulation), from the
+//! same rows as the FMI 2.0 one ([`super::xml`]): the same variables, value references, units,
+//! ranges, start values and dependencies, written in FMI 3.0's vocabulary.
 //!
 //! Differences from FMI 2.0, each required by the standard:
 //! - variables are `Float64` elements with their type attributes inline;
 //! - an independent variable `time` (value reference 0) is declared;
-//! - `ModelStructure` names variables by value reference, not by index;
+//! - `ModelStructure` names variables by value reference, not by index, and lists the event
+//!   indicators (local variables in both editions);
 //! - FMI 3.0 Co-Simulation has no input derivatives: inputs are held over a step;
 //! - the `instantiationToken` is the FMI 2.0 GUID of the same scene: one scene, one token, and
 //!   the instance checks the same string whichever version instantiates it.
@@ -74,6 +75,23 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
             ("description", &scene.description),
             ("generationTool", &tool),
             ("variableNamingConvention", "flat"),
+        ],
+    )?;
+    empty(
+        w,
+        "ModelExchange",
+        &[
+            ("modelIdentifier", &scene.model_identifier),
+            ("needsExecutionTool", "false"),
+            ("canBeInstantiatedOnlyOncePerProcess", "false"),
+            ("canGetAndSetFMUState", "true"),
+            ("canSerializeFMUState", "true"),
+            ("providesDirectionalDerivatives", "true"),
+            ("providesAdjointDerivatives", "false"),
+            ("providesPerElementDependencies", "false"),
+            // Nothing happens at the end of an integrator step: no step events.
+            ("needsCompletedIntegratorStep", "false"),
+            ("providesEvaluateDiscreteStates", "false"),
         ],
     )?;
     empty(
@@ -219,6 +237,19 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
             VarKind::Derivative(_) => empty(w, "InitialUnknown", &[("valueReference", &vr)])?,
             _ => {}
         }
+    }
+    // The event indicators of Model Exchange, in the order of the indicator vector.
+    for v in vars
+        .iter()
+        .filter(|v| matches!(v.kind, VarKind::Indicator(_)))
+    {
+        let deps = v.known_dependencies(c, &scene.outputs);
+        let vr = v.vr.to_string();
+        empty(
+            w,
+            "EventIndicator",
+            &[("valueReference", &vr), ("dependencies", &joined(&deps))],
+        )?;
     }
     close(w, "ModelStructure")?;
     close(w, "fmiModelDescription")

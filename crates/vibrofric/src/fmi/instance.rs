@@ -26,6 +26,7 @@ use crate::description::variables::{by_vr, Causality, VarKind, Variability, Vari
 use crate::description::xml;
 use crate::model::{self, InputId, OutputId, Outputs, SimError, Simulator, StateId};
 use crate::physics::ParamId;
+use crate::table::IndicatorId;
 
 /// The FMU instance.
 pub struct Instance {
@@ -226,10 +227,25 @@ impl Instance {
             return Ok(());
         }
         let state = self.st.state;
+        // A function of the other interface says so.
+        let of = |states: &[State]| states.iter().any(|s| call.allowed.contains(*s));
+        let (cs, me) = (
+            of(&[State::StepComplete, State::StepFailed]),
+            of(&[State::EventMode, State::ContinuousTimeMode]),
+        );
+        let interface = match (self.interface, cs, me) {
+            (Interface::CoSimulation, false, true) => {
+                "; a function of Model Exchange, and this instance was instantiated for Co-Simulation"
+            }
+            (Interface::ModelExchange, true, false) => {
+                "; a function of Co-Simulation, and this instance was instantiated for Model Exchange"
+            }
+            _ => "",
+        };
         Err(self.fail(
             call.name,
             format!(
-                "not allowed in state {} (allowed in: {}); illegal call sequence",
+                "not allowed in state {} (allowed in: {}); illegal call sequence{interface}",
                 state.name(),
                 call.allowed.names()
             ),
@@ -485,9 +501,14 @@ impl Instance {
                 Err(msg) => return self.fail(f, msg),
             }
         }
+        let mut indicators = [0.0; IndicatorId::ALL.len()];
+        let n_indicators = self.scene.config.event_indicators();
         let (outputs, states, derivatives) = if need_outputs {
             match self.simulator_now() {
-                Ok(sim) => (sim.outputs(), sim.states(), sim.derivatives()),
+                Ok(sim) => {
+                    sim.event_indicators(&mut indicators[..n_indicators]);
+                    (sim.outputs(), sim.states(), sim.derivatives())
+                }
                 Err(e) => return self.fail(f, e),
             }
         } else {
@@ -508,6 +529,7 @@ impl Instance {
                 VarKind::Output(o) => o.get(&outputs),
                 VarKind::State(x) => states[x.index()],
                 VarKind::Derivative(x) => derivatives[x.index()],
+                VarKind::Indicator(i) => indicators[i.index(&self.scene.config)],
             };
         }
         // fmi2OK never comes with a non-finite value (the ranges are chosen so that none

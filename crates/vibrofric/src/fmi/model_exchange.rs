@@ -42,6 +42,18 @@ impl Instance {
             .join(", ")
     }
 
+    /// `fmi3GetNumberOfContinuousStates`.
+    pub fn number_of_states(&mut self, call: Call) -> Result<usize, Status> {
+        self.allow(call)?;
+        Ok(self.states.len())
+    }
+
+    /// `fmi3GetNumberOfEventIndicators`.
+    pub fn number_of_event_indicators(&mut self, call: Call) -> Result<usize, Status> {
+        self.allow(call)?;
+        Ok(self.scene().config.event_indicators())
+    }
+
     /// `fmi2SetTime`.
     pub fn set_time(&mut self, call: Call, t: f64) -> Status {
         if let Err(s) = self.allow(call) {

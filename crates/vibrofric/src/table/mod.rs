@@ -21,7 +21,7 @@ mod table;
 pub use config::{Config, Drive, Lateral, Law, Motion};
 pub use dependencies::{Dependency, Depends};
 pub use rule::{ParamError, Rule, Sign};
-pub use states::{force_knowns, rate_knowns, velocity_knowns, Known, StateId};
+pub use states::{force_knowns, rate_knowns, velocity_knowns, IndicatorId, Known, StateId};
 pub use table::{InputId, Inputs, OutputId, Outputs, ParamId, Params};
 
 /// Whether a variable may change during the simulation (the model description's

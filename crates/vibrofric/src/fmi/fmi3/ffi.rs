@@ -22,7 +22,7 @@ use crate::fmi::c_boundary::{
     array, array_mut, component, deserialize_state, free_state, get_state, null, run,
     serialize_state, set_state, state_size, string, Component, COMPONENT_MAGIC,
 };
-use crate::fmi::{Call, Instance, Logger, NoLogger, Status};
+use crate::fmi::{Call, Instance, Interface, Logger, NoLogger, Status};
 
 /// The importer's `fmi3LogMessageCallback`.
 struct CLogger {
@@ -62,7 +62,7 @@ unsafe fn unsupported(c: fmi3Instance, name: &'static str, why: &str) -> fmi3Sta
     })
 }
 
-const NO_ME: &str = "this FMU implements Co-Simulation only (fmi3InstantiateCoSimulation)";
+const NO_SE: &str = "this FMU implements Model Exchange and Co-Simulation, not Scheduled Execution";
 const NO_CLOCKS: &str = "this FMU has no clocks";
 const NO_EVENTS: &str = "this FMU has no event mode (hasEventMode = false)";
 
@@ -115,7 +115,50 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     logMessage: fmi3LogMessageCallback,
     _intermediateUpdate: fmi3IntermediateUpdateCallback,
 ) -> fmi3Instance {
-    const F: Function = Function::InstantiateCoSimulation;
+    let refusal = eventModeUsed.then(|| format!("eventModeUsed = true: {NO_EVENTS}"));
+    instantiate(
+        Function::InstantiateCoSimulation,
+        Interface::CoSimulation,
+        refusal,
+        [instanceName, instantiationToken, resourcePath],
+        loggingOn,
+        instanceEnvironment,
+        logMessage,
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3InstantiateModelExchange(
+    instanceName: fmi3String,
+    instantiationToken: fmi3String,
+    resourcePath: fmi3String,
+    _visible: fmi3Boolean,
+    loggingOn: fmi3Boolean,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+) -> fmi3Instance {
+    instantiate(
+        Function::InstantiateModelExchange,
+        Interface::ModelExchange,
+        None,
+        [instanceName, instantiationToken, resourcePath],
+        loggingOn,
+        instanceEnvironment,
+        logMessage,
+    )
+}
+
+/// Both instantiation functions: the name, token and resources path checked, the reason of a
+/// refusal logged (`refusal`: one the caller found).
+unsafe fn instantiate(
+    f: Function,
+    interface: Interface,
+    refusal: Option<String>,
+    [instanceName, instantiationToken, resourcePath]: [fmi3String; 3],
+    loggingOn: fmi3Boolean,
+    instanceEnvironment: fmi3InstanceEnvironment,
+    logMessage: fmi3LogMessageCallback,
+) -> fmi3Instance {
     let make_logger = || -> Box<dyn Logger> {
         match logMessage {
             Some(callback) => Box::new(CLogger {
@@ -129,7 +172,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
         let logger = make_logger();
         let refuse = |msg: String| {
             let error = Category::StatusError.name();
-            logger.log(Status::Error, error, &format!("{}: {msg}", F.name()));
+            logger.log(Status::Error, error, &format!("{}: {msg}", f.name()));
         };
         let Some(name) = string(instanceName) else {
             refuse("instanceName = NULL: must be a string".into());
@@ -139,8 +182,8 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             refuse(why);
             return None;
         }
-        if eventModeUsed {
-            refuse(format!("eventModeUsed = true: {NO_EVENTS}"));
+        if let Some(why) = refusal.clone() {
+            refuse(why);
             return None;
         }
         let Some(path) = string(resourcePath) else {
@@ -148,8 +191,8 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             return None;
         };
         let inst = Instance::instantiate(
-            F.call(),
-            crate::fmi::Interface::CoSimulation,
+            f.call(),
+            interface,
             &name,
             "instantiationToken",
             string(instantiationToken).as_deref(),
@@ -172,7 +215,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 Category::StatusError.name(),
                 &format!(
                     "{}: internal error (caught); no instance was created",
-                    F.name()
+                    f.name()
                 ),
             );
             ptr::null_mut()
@@ -193,28 +236,11 @@ unsafe fn refuse_instantiation(
             logger.log(
                 Status::Error,
                 Category::StatusError.name(),
-                &format!("{}: not supported: {NO_ME}", f.name()),
+                &format!("{}: not supported: {NO_SE}", f.name()),
             )
         }));
     }
     ptr::null_mut()
-}
-
-#[no_mangle]
-pub unsafe extern "C" fn fmi3InstantiateModelExchange(
-    _instanceName: fmi3String,
-    _instantiationToken: fmi3String,
-    _resourcePath: fmi3String,
-    _visible: fmi3Boolean,
-    _loggingOn: fmi3Boolean,
-    instanceEnvironment: fmi3InstanceEnvironment,
-    logMessage: fmi3LogMessageCallback,
-) -> fmi3Instance {
-    refuse_instantiation(
-        Function::InstantiateModelExchange,
-        instanceEnvironment,
-        logMessage,
-    )
 }
 
 #[no_mangle]
@@ -281,7 +307,9 @@ pub unsafe extern "C" fn fmi3ExitInitializationMode(instance: fmi3Instance) -> f
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Status {
-    unsupported(instance, "fmi3EnterEventMode", NO_EVENTS)
+    call(instance, Function::EnterEventMode, |i, call| {
+        i.enter_event_mode(call)
+    })
 }
 
 #[no_mangle]
@@ -589,20 +617,38 @@ pub unsafe extern "C" fn fmi3DeserializeFMUState(
 #[no_mangle]
 pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
     instance: fmi3Instance,
-    _unknowns: *const fmi3ValueReference,
-    _nUnknowns: usize,
-    _knowns: *const fmi3ValueReference,
-    _nKnowns: usize,
-    _seed: *const fmi3Float64,
-    _nSeed: usize,
-    _sensitivity: *mut fmi3Float64,
-    _nSensitivity: usize,
+    unknowns: *const fmi3ValueReference,
+    nUnknowns: usize,
+    knowns: *const fmi3ValueReference,
+    nKnowns: usize,
+    seed: *const fmi3Float64,
+    nSeed: usize,
+    sensitivity: *mut fmi3Float64,
+    nSensitivity: usize,
 ) -> fmi3Status {
-    unsupported(
-        instance,
-        "fmi3GetDirectionalDerivative",
-        "this FMU provides no directional derivatives (providesDirectionalDerivatives = false)",
-    )
+    const F: Function = Function::GetDirectionalDerivative;
+    call(instance, F, |inst, call| {
+        // Every variable is a scalar: one seed per known, one sensitivity per unknown.
+        if nSeed != nKnowns || nSensitivity != nUnknowns {
+            return inst.invalid_argument(
+                F.name(),
+                format!("nSeed = {nSeed}, nSensitivity = {nSensitivity}: must equal nKnowns = {nKnowns} and nUnknowns = {nUnknowns} (every variable is a scalar)"),
+            );
+        }
+        let Some(unknowns) = array(unknowns, nUnknowns) else {
+            return null(inst, F.name(), "unknowns", nUnknowns);
+        };
+        let Some(knowns) = array(knowns, nKnowns) else {
+            return null(inst, F.name(), "knowns", nKnowns);
+        };
+        let Some(seed) = array(seed, nSeed) else {
+            return null(inst, F.name(), "seed", nSeed);
+        };
+        let Some(sensitivity) = array_mut(sensitivity, nSensitivity) else {
+            return null(inst, F.name(), "sensitivity", nSensitivity);
+        };
+        inst.get_directional_derivative(call, unknowns, knowns, seed, sensitivity)
+    })
 }
 
 #[no_mangle]
@@ -675,19 +721,222 @@ not_offered! {
     fmi3SetShiftDecimal(_vr: *const fmi3ValueReference, _n: usize, _shifts: *const fmi3Float64) => NO_CLOCKS;
     fmi3SetShiftFraction(_vr: *const fmi3ValueReference, _n: usize, _counters: *const fmi3UInt64, _resolutions: *const fmi3UInt64) => NO_CLOCKS;
     fmi3EvaluateDiscreteStates() => NO_EVENTS;
-    fmi3UpdateDiscreteStates(_a: *mut fmi3Boolean, _b: *mut fmi3Boolean, _c: *mut fmi3Boolean, _d: *mut fmi3Boolean, _e: *mut fmi3Boolean, _f: *mut fmi3Float64) => NO_EVENTS;
-    fmi3EnterContinuousTimeMode() => NO_ME;
-    fmi3CompletedIntegratorStep(_no_set: fmi3Boolean, _enter: *mut fmi3Boolean, _terminate: *mut fmi3Boolean) => NO_ME;
-    fmi3SetTime(_time: fmi3Float64) => NO_ME;
-    fmi3SetContinuousStates(_x: *const fmi3Float64, _n: usize) => NO_ME;
-    fmi3GetContinuousStateDerivatives(_dx: *mut fmi3Float64, _n: usize) => NO_ME;
-    fmi3GetEventIndicators(_z: *mut fmi3Float64, _n: usize) => NO_ME;
-    fmi3GetContinuousStates(_x: *mut fmi3Float64, _n: usize) => NO_ME;
-    fmi3GetNominalsOfContinuousStates(_x: *mut fmi3Float64, _n: usize) => NO_ME;
-    fmi3GetNumberOfEventIndicators(_n: *mut usize) => NO_ME;
-    fmi3GetNumberOfContinuousStates(_n: *mut usize) => NO_ME;
     fmi3EnterStepMode() => NO_EVENTS;
-    fmi3ActivateModelPartition(_clock: fmi3ValueReference, _time: fmi3Float64) => "this FMU implements Co-Simulation only";
+    fmi3ActivateModelPartition(_clock: fmi3ValueReference, _time: fmi3Float64) => "this FMU has no Scheduled Execution (no clocks)";
+}
+
+// ---- Model Exchange -------------------------------------------------------------------------
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
+    instance: fmi3Instance,
+    discreteStatesNeedUpdate: *mut fmi3Boolean,
+    terminateSimulation: *mut fmi3Boolean,
+    nominalsOfContinuousStatesChanged: *mut fmi3Boolean,
+    valuesOfContinuousStatesChanged: *mut fmi3Boolean,
+    nextEventTimeDefined: *mut fmi3Boolean,
+    nextEventTime: *mut fmi3Float64,
+) -> fmi3Status {
+    const F: Function = Function::UpdateDiscreteStates;
+    call(instance, F, |inst, call| {
+        let (Some(need), Some(terminate), Some(nominals), Some(values), Some(defined), Some(next)) = (
+            discreteStatesNeedUpdate.as_mut(),
+            terminateSimulation.as_mut(),
+            nominalsOfContinuousStatesChanged.as_mut(),
+            valuesOfContinuousStatesChanged.as_mut(),
+            nextEventTimeDefined.as_mut(),
+            nextEventTime.as_mut(),
+        ) else {
+            return inst.invalid_argument(F.name(), "an output argument is NULL");
+        };
+        let (status, info) = inst.new_discrete_states(call);
+        if status == Status::Ok {
+            (*need, *terminate, *nominals) = (false, false, false);
+            *values = info.values_of_continuous_states_changed;
+            *defined = info.next_event_time.is_some();
+            *next = info.next_event_time.unwrap_or(0.0);
+        }
+        status
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3EnterContinuousTimeMode(instance: fmi3Instance) -> fmi3Status {
+    call(instance, Function::EnterContinuousTimeMode, |i, call| {
+        i.enter_continuous_time_mode(call)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3CompletedIntegratorStep(
+    instance: fmi3Instance,
+    _noSetFMUStatePriorToCurrentPoint: fmi3Boolean,
+    enterEventMode: *mut fmi3Boolean,
+    terminateSimulation: *mut fmi3Boolean,
+) -> fmi3Status {
+    const F: Function = Function::CompletedIntegratorStep;
+    call(instance, F, |inst, call| {
+        let (Some(event), Some(terminate)) =
+            (enterEventMode.as_mut(), terminateSimulation.as_mut())
+        else {
+            return inst.invalid_argument(F.name(), "enterEventMode or terminateSimulation = NULL");
+        };
+        let status = inst.completed_integrator_step(call);
+        if status == Status::Ok {
+            (*event, *terminate) = (false, false);
+        }
+        status
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetTime(instance: fmi3Instance, time: fmi3Float64) -> fmi3Status {
+    call(instance, Function::SetTime, |i, call| {
+        i.set_time(call, time)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetContinuousStates(
+    instance: fmi3Instance,
+    continuousStates: *const fmi3Float64,
+    nContinuousStates: usize,
+) -> fmi3Status {
+    const F: Function = Function::SetContinuousStates;
+    call(instance, F, |inst, call| {
+        let Some(x) = array(continuousStates, nContinuousStates) else {
+            return null(inst, F.name(), "continuousStates", nContinuousStates);
+        };
+        inst.set_continuous_states(call, x)
+    })
+}
+
+/// The getters of Model Exchange that fill a vector of `n` floats.
+unsafe fn get_vector(
+    instance: fmi3Instance,
+    f: Function,
+    arg: &str,
+    out: *mut fmi3Float64,
+    n: usize,
+    get: impl FnOnce(&mut Instance, Call, &mut [f64]) -> Status,
+) -> fmi3Status {
+    call(instance, f, |inst, call| {
+        let Some(out) = array_mut(out, n) else {
+            return null(inst, f.name(), arg, n);
+        };
+        get(inst, call, out)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetContinuousStateDerivatives(
+    instance: fmi3Instance,
+    derivatives: *mut fmi3Float64,
+    nContinuousStates: usize,
+) -> fmi3Status {
+    let f = Function::GetContinuousStateDerivatives;
+    get_vector(
+        instance,
+        f,
+        "derivatives",
+        derivatives,
+        nContinuousStates,
+        |i, call, out| i.get_derivatives(call, out),
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetEventIndicators(
+    instance: fmi3Instance,
+    eventIndicators: *mut fmi3Float64,
+    nEventIndicators: usize,
+) -> fmi3Status {
+    let f = Function::GetEventIndicators;
+    get_vector(
+        instance,
+        f,
+        "eventIndicators",
+        eventIndicators,
+        nEventIndicators,
+        |i, call, out| i.get_event_indicators(call, out),
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetContinuousStates(
+    instance: fmi3Instance,
+    continuousStates: *mut fmi3Float64,
+    nContinuousStates: usize,
+) -> fmi3Status {
+    let f = Function::GetContinuousStates;
+    get_vector(
+        instance,
+        f,
+        "continuousStates",
+        continuousStates,
+        nContinuousStates,
+        |i, call, out| i.get_continuous_states(call, out),
+    )
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetNominalsOfContinuousStates(
+    instance: fmi3Instance,
+    nominals: *mut fmi3Float64,
+    nContinuousStates: usize,
+) -> fmi3Status {
+    let f = Function::GetNominalsOfContinuousStates;
+    get_vector(
+        instance,
+        f,
+        "nominals",
+        nominals,
+        nContinuousStates,
+        |i, call, out| i.get_nominals(call, out),
+    )
+}
+
+/// `fmi3GetNumberOf...`: a count written to `n`.
+unsafe fn get_count(
+    instance: fmi3Instance,
+    f: Function,
+    n: *mut usize,
+    count: impl FnOnce(&mut Instance, Call) -> Result<usize, Status>,
+) -> fmi3Status {
+    call(instance, f, |inst, call| {
+        let Some(out) = n.as_mut() else {
+            return inst.invalid_argument(f.name(), "the count's pointer is NULL");
+        };
+        match count(inst, call) {
+            Ok(k) => {
+                *out = k;
+                Status::Ok
+            }
+            Err(s) => s,
+        }
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetNumberOfEventIndicators(
+    instance: fmi3Instance,
+    nEventIndicators: *mut usize,
+) -> fmi3Status {
+    let f = Function::GetNumberOfEventIndicators;
+    get_count(instance, f, nEventIndicators, |i, call| {
+        i.number_of_event_indicators(call)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetNumberOfContinuousStates(
+    instance: fmi3Instance,
+    nContinuousStates: *mut usize,
+) -> fmi3Status {
+    let f = Function::GetNumberOfContinuousStates;
+    get_count(instance, f, nContinuousStates, |i, call| {
+        i.number_of_states(call)
+    })
 }
 
 // ---- Co-Simulation --------------------------------------------------------------------------

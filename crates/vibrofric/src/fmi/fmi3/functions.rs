@@ -1,7 +1,8 @@
 //! Every function of the FMI 3.0 C interface and the one table of the states each may be called
-//! in (FMI 3.0, the state machine of Co-Simulation without event mode). Model Exchange,
-//! Scheduled Execution, clocks, event mode and configuration mode are not offered: their
-//! functions answer with an error in every state.
+//! in (FMI 3.0, the state machines of Model Exchange and of Co-Simulation without event mode;
+//! an instance is in the states of one of them only). Scheduled Execution, clocks, the event
+//! mode of Co-Simulation and configuration mode are not offered: their functions answer with an
+//! error in every state.
 
 use crate::fmi::state::{Call, State, States, Vocabulary};
 
@@ -31,12 +32,26 @@ pub enum Function {
     DeserializeFMUState,
     GetOutputDerivatives,
     DoStep,
+    GetDirectionalDerivative,
+    EnterEventMode,
+    UpdateDiscreteStates,
+    EnterContinuousTimeMode,
+    CompletedIntegratorStep,
+    SetTime,
+    SetContinuousStates,
+    GetContinuousStateDerivatives,
+    GetEventIndicators,
+    GetContinuousStates,
+    GetNominalsOfContinuousStates,
+    GetNumberOfEventIndicators,
+    GetNumberOfContinuousStates,
     /// A function of an interface or mode this FMU does not offer (the name in the argument).
     Unsupported(&'static str),
 }
 
 use State::{
-    Error, InitializationMode as Init, Instantiated, StepComplete, StepFailed, Terminated,
+    ContinuousTimeMode as Continuous, Error, EventMode as Event, InitializationMode as Init,
+    Instantiated, StepComplete, StepFailed, Terminated,
 };
 
 /// Every state but `Fatal`.
@@ -47,10 +62,24 @@ const ANY: States = States::of(&[
     StepFailed,
     Terminated,
     Error,
+    Event,
+    Continuous,
 ]);
 const EVERY: States = States::of(&State::ALL);
-const GET: States = States::of(&[Init, StepComplete, StepFailed, Terminated, Error]);
-const SET: States = States::of(&[Instantiated, Init, StepComplete]);
+const GET: States = States::of(&[
+    Init,
+    StepComplete,
+    StepFailed,
+    Terminated,
+    Error,
+    Event,
+    Continuous,
+]);
+/// Parameters and inputs; in Model Exchange, tunable parameters in event mode and inputs in
+/// both modes (the instance checks which).
+const SET: States = States::of(&[Instantiated, Init, StepComplete, Event, Continuous]);
+/// The model's equations, evaluated: from initialization on.
+const EVALUATE: States = States::of(&[Init, Event, Continuous, Terminated, Error]);
 
 impl Function {
     /// The C name.
@@ -77,6 +106,19 @@ impl Function {
             DeserializeFMUState => "fmi3DeserializeFMUState",
             GetOutputDerivatives => "fmi3GetOutputDerivatives",
             DoStep => "fmi3DoStep",
+            GetDirectionalDerivative => "fmi3GetDirectionalDerivative",
+            EnterEventMode => "fmi3EnterEventMode",
+            UpdateDiscreteStates => "fmi3UpdateDiscreteStates",
+            EnterContinuousTimeMode => "fmi3EnterContinuousTimeMode",
+            CompletedIntegratorStep => "fmi3CompletedIntegratorStep",
+            SetTime => "fmi3SetTime",
+            SetContinuousStates => "fmi3SetContinuousStates",
+            GetContinuousStateDerivatives => "fmi3GetContinuousStateDerivatives",
+            GetEventIndicators => "fmi3GetEventIndicators",
+            GetContinuousStates => "fmi3GetContinuousStates",
+            GetNominalsOfContinuousStates => "fmi3GetNominalsOfContinuousStates",
+            GetNumberOfEventIndicators => "fmi3GetNumberOfEventIndicators",
+            GetNumberOfContinuousStates => "fmi3GetNumberOfContinuousStates",
         }
     }
 
@@ -92,7 +134,7 @@ impl Function {
             SetDebugLogging | Reset => ANY,
             EnterInitializationMode => States::of(&[Instantiated]),
             ExitInitializationMode => States::of(&[Init]),
-            Terminate => States::of(&[StepComplete, StepFailed]),
+            Terminate => States::of(&[StepComplete, StepFailed, Event, Continuous]),
             GetFloat64 | GetOther(_) => GET,
             SetFloat64 | SetOther(_) => SET,
             GetFMUState
@@ -103,6 +145,24 @@ impl Function {
             | DeserializeFMUState => ANY,
             GetOutputDerivatives => States::of(&[StepComplete, StepFailed, Terminated, Error]),
             DoStep => States::of(&[StepComplete]),
+            GetDirectionalDerivative => States::of(&[
+                Init,
+                StepComplete,
+                StepFailed,
+                Event,
+                Continuous,
+                Terminated,
+                Error,
+            ]),
+            EnterEventMode => States::of(&[Event, Continuous]),
+            UpdateDiscreteStates | EnterContinuousTimeMode => States::of(&[Event]),
+            CompletedIntegratorStep | SetContinuousStates => States::of(&[Continuous]),
+            SetTime => States::of(&[Event, Continuous]),
+            GetContinuousStateDerivatives | GetEventIndicators | GetContinuousStates => EVALUATE,
+            GetNominalsOfContinuousStates => {
+                States::of(&[Instantiated, Init, Event, Continuous, Terminated, Error])
+            }
+            GetNumberOfEventIndicators | GetNumberOfContinuousStates => ANY,
         }
     }
 
