@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from conftest import DIST, fmu_path
 from fmpy import extract, read_model_description, simulate_fmu
-from fmpy.fmi2 import FMU2Model
+from fmpy.fmi2 import FMU2Model, fmi2EventInfo
 
 RTOL = 1e-8
 BOUND = 2000 * RTOL
@@ -418,3 +418,145 @@ def test_fmi3_directional_derivatives_equal_fmi2():
     finally:
         a.close()
         b.close()
+
+
+# ---- bad input, replayed on Model Exchange of both editions ---------------------------------
+
+
+def _bad_input_cases(p):
+    """(what, call, words of the log line) for the prefix `p` (fmi2 or fmi3); each call gets
+    the instance `m` and returns the status."""
+    import ctypes
+
+    c_double_p = ctypes.POINTER(ctypes.c_double)
+
+    def fn(m, name):
+        f = getattr(m.fmu.dll, name)
+        f.restype = ctypes.c_int
+        return f
+
+    def vrs(*v):
+        return (ctypes.c_uint * len(v))(*v)
+
+    def doubles(*v):
+        return (ctypes.c_double * len(v))(*v)
+
+    set_real = "fmi2SetReal" if p == "fmi2" else "fmi3SetFloat64"
+    get_real = "fmi2GetReal" if p == "fmi2" else "fmi3GetFloat64"
+
+    def set_values(m, names, values):
+        v = [m.vr[n] for n in names]
+        if p == "fmi2":
+            return fn(m, set_real)(m.fmu.component, vrs(*v), len(v), doubles(*values))
+        return fn(m, set_real)(m.fmu.component, vrs(*v), len(v), doubles(*values), len(v))
+
+    def get_value(m, vr):
+        out = doubles(0.0)
+        if p == "fmi2":
+            return fn(m, get_real)(m.fmu.component, vrs(vr), 1, out)
+        return fn(m, get_real)(m.fmu.component, vrs(vr), 1, out, 1)
+
+    def ddx(m, unknowns, knowns, seed, out):
+        f = fn(m, f"{p}GetDirectionalDerivative")
+        if p == "fmi2":
+            return f(m.fmu.component, unknowns, 1, knowns, 1, seed, out)
+        return f(m.fmu.component, unknowns, 1, knowns, 1, seed, 1, out, 1)
+
+    derivatives = f"{p}GetDerivatives" if p == "fmi2" else "fmi3GetContinuousStateDerivatives"
+    update = "fmi2NewDiscreteStates" if p == "fmi2" else "fmi3UpdateDiscreteStates"
+    return [
+        ("NULL states with nx > 0",
+         lambda m: fn(m, f"{p}SetContinuousStates")(m.fmu.component, None, m.nx),
+         ["SetContinuousStates", "NULL"]),
+        ("NULL derivatives with nx > 0",
+         lambda m: fn(m, derivatives)(m.fmu.component, None, m.nx),
+         ["derivatives", "NULL"]),
+        ("NULL event indicators",
+         lambda m: fn(m, f"{p}GetEventIndicators")(m.fmu.component, None, 1),
+         ["eventIndicators", "NULL"]),
+        ("NULL seed",
+         lambda m: ddx(m, vrs(m.vr["F_Fx"]), vrs(m.vr["contact.s_x"]), None, doubles(0.0)),
+         ["GetDirectionalDerivative", "NULL"]),
+        ("unknown value reference",
+         lambda m: get_value(m, 999),
+         ["unknown value reference 999"]),
+        ("a state set as a variable",
+         lambda m: set_values(m, ["contact.s_x"], [1e-9]),
+         ["contact.s_x", "causality local", "SetContinuousStates"]),
+        ("a known that is no state or input",
+         lambda m: ddx(m, vrs(m.vr["F_Fx"]), vrs(m.vr["mu"]), doubles(1.0), doubles(0.0)),
+         ["mu", "not a known"]),
+        ("an unknown that is no derivative or output",
+         lambda m: ddx(m, vrs(m.vr["k_t"]), vrs(m.vr["contact.s_x"]), doubles(1.0), doubles(0.0)),
+         ["k_t", "not an unknown"]),
+        ("NaN input",
+         lambda m: set_values(m, ["v_sx"], [float("nan")]),
+         ["v_sx = NaN"]),
+        ("a parameter in continuous-time mode",
+         lambda m: set_values(m, ["mu"], [0.3]),
+         ["mu", "ContinuousTimeMode only inputs"]),
+        ("NaN time",
+         lambda m: fn(m, f"{p}SetTime")(m.fmu.component, ctypes.c_double(float("nan"))),
+         ["time = NaN", "finite"]),
+        ("the event update in continuous-time mode",
+         lambda m: fn(m, update)(m.fmu.component, *[ctypes.byref(ctypes.c_bool()) for _ in range(5)],
+                                 ctypes.byref(ctypes.c_double())) if p == "fmi3"
+         else fn(m, update)(m.fmu.component, ctypes.byref(fmi2EventInfo())),
+         ["not allowed in state ContinuousTimeMode"]),
+        ("too many states",
+         lambda m: fn(m, f"{p}SetContinuousStates")(
+             m.fmu.component, (ctypes.c_double * (m.nx + 1))(), m.nx + 1),
+         [f"continuous states"]),
+    ]
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_every_bad_input_class_is_refused_on_model_exchange_and_changes_nothing(version, capfd):
+    prefix = f"fmi{version}"
+    for what, bad, words in _bad_input_cases(prefix):
+        m = Model("VibratingContact") if version == 2 else Model3("VibratingContact")
+        try:
+            if version == 3:
+                m.states = [d.variable.derivative.name for d in m.md.derivatives]
+            f = m.fmu
+            f.setTime(1e-4)
+            x0 = m.get_states() + 1e-9
+            m.set_states(x0)
+            names = [v.name for v in m.md.modelVariables if v.causality == "output"]
+            vr = [m.vr[n] for n in names]
+            before = list(f.getReal(vr) if version == 2 else f.getFloat64(vr))
+            capfd.readouterr()
+            status = bad(m)
+            out = capfd.readouterr().out
+            assert status == 3, (what, status, out)
+            for w in words:
+                assert w in out, (what, w, out)
+            # Nothing changed: a saved state of the refused instance is the one before.
+            restored = Model("VibratingContact") if version == 2 else Model3("VibratingContact")
+            try:
+                restored.fmu.setTime(1e-4)
+                restored.set_states(x0)
+                after = list(restored.fmu.getReal(vr) if version == 2 else restored.fmu.getFloat64(vr))
+            finally:
+                restored.close()
+            assert after == before, what
+            assert np.array_equal(m.get_states(), x0), what
+        finally:
+            m.close()
+
+
+@pytest.mark.parametrize("version", [2, 3])
+def test_a_corrupted_serialized_state_is_refused_on_model_exchange(version, capfd):
+    m = Model("VibratingContact") if version == 2 else Model3("VibratingContact")
+    try:
+        f = m.fmu
+        get, ser = (f.getFMUstate, f.serializeFMUstate) if version == 2 else (f.getFMUState, f.serializeFMUState)
+        data = bytearray(ser(get()))
+        data[len(data) // 2] ^= 0x10
+        capfd.readouterr()
+        with pytest.raises(Exception):
+            (f.deSerializeFMUstate if version == 2 else f.deserializeFMUState)(bytes(data))
+        out = capfd.readouterr().out
+        assert "serialized state" in out or "checksum" in out, out
+    finally:
+        m.close()
