@@ -85,22 +85,20 @@ pub fn status(code: fmi2Status) -> Status {
 }
 
 macro_rules! functions {
-    ($($name:ident : fn($($arg:ty),*) $(-> $ret:ty)?;)*) => {
-        /// Every FMI 2.0 common and Co-Simulation function of a loaded FMU, for callers that
-        /// need the raw C interface (the tests pass NULL pointers through it). The pointers are
-        /// valid while the [`Fmu`] they came from is alive.
+    ($(#[$doc:meta])* $table:ident; $($name:ident : fn($($arg:ty),*) $(-> $ret:ty)?;)*) => {
+        $(#[$doc])*
         #[derive(Clone, Copy)]
         #[allow(non_snake_case)]
-        pub struct Functions {
+        pub struct $table {
             $(pub $name: unsafe extern "C" fn($($arg),*) $(-> $ret)?,)*
         }
 
-        impl Functions {
-            /// Names of all the functions an FMI 2.0 Co-Simulation FMU exports.
+        impl $table {
+            /// Names of the functions of this table.
             pub const NAMES: &'static [&'static str] = &[$(stringify!($name)),*];
 
-            fn load(lib: &Library) -> Result<Functions, ImportError> {
-                Ok(Functions {
+            fn load(lib: &Library) -> Result<$table, ImportError> {
+                Ok($table {
                     $($name: {
                         let name = concat!(stringify!($name), "\0");
                         // SAFETY: the symbol is declared with the signature of the FMI 2.0
@@ -122,6 +120,10 @@ macro_rules! functions {
 }
 
 functions! {
+    /// Every FMI 2.0 common and Co-Simulation function of a loaded FMU, for callers that need
+    /// the raw C interface (the tests pass NULL pointers through it). The pointers are valid
+    /// while the [`Fmu`] they came from is alive.
+    Functions;
     fmi2GetTypesPlatform: fn() -> *const c_char;
     fmi2GetVersion: fn() -> *const c_char;
     fmi2SetDebugLogging: fn(fmi2Component, fmi2Boolean, usize, *const fmi2String) -> fmi2Status;
@@ -169,6 +171,22 @@ functions! {
     fmi2GetIntegerStatus: fn(fmi2Component, fmi2StatusKind, *mut fmi2Integer) -> fmi2Status;
     fmi2GetBooleanStatus: fn(fmi2Component, fmi2StatusKind, *mut fmi2Boolean) -> fmi2Status;
     fmi2GetStringStatus: fn(fmi2Component, fmi2StatusKind, *mut fmi2String) -> fmi2Status;
+}
+
+functions! {
+    /// The FMI 2.0 Model Exchange functions of a loaded FMU (valid while the [`Fmu`] lives).
+    MeFunctions;
+    fmi2EnterEventMode: fn(fmi2Component) -> fmi2Status;
+    fmi2NewDiscreteStates: fn(fmi2Component, *mut fmi2EventInfo) -> fmi2Status;
+    fmi2EnterContinuousTimeMode: fn(fmi2Component) -> fmi2Status;
+    fmi2CompletedIntegratorStep: fn(fmi2Component, fmi2Boolean, *mut fmi2Boolean,
+        *mut fmi2Boolean) -> fmi2Status;
+    fmi2SetTime: fn(fmi2Component, fmi2Real) -> fmi2Status;
+    fmi2SetContinuousStates: fn(fmi2Component, *const fmi2Real, usize) -> fmi2Status;
+    fmi2GetDerivatives: fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
+    fmi2GetEventIndicators: fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
+    fmi2GetContinuousStates: fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
+    fmi2GetNominalsOfContinuousStates: fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
 }
 
 /// The platform folder of `binaries/` and the shared library suffix (FMI 2.0 names).
@@ -318,6 +336,8 @@ pub struct Fmu {
     pub description: Description,
     /// The raw C functions; valid while this `Fmu` lives.
     pub functions: Functions,
+    /// The Model Exchange functions, where the FMU exports them.
+    pub model_exchange: Option<MeFunctions>,
     _lib: Library,
     _tmp: Option<tempfile::TempDir>,
 }
@@ -366,10 +386,12 @@ impl Fmu {
         let lib = unsafe { Library::new(&lib_path) }
             .map_err(|e| ImportError(format!("cannot load {}: {e}", lib_path.display())))?;
         let functions = Functions::load(&lib)?;
+        let model_exchange = MeFunctions::load(&lib).ok();
         Ok(Fmu {
             dir,
             description,
             functions,
+            model_exchange,
             _lib: lib,
             _tmp: tmp,
         })
@@ -401,6 +423,22 @@ impl Fmu {
         let uri = self.resource_uri();
         let (inst, log) =
             self.instantiate_with(name, fmi2CoSimulation, Some(&guid), Some(&uri), false);
+        inst.ok_or_else(|| {
+            let msgs: Vec<String> = log.iter().map(|r| r.message.clone()).collect();
+            ImportError(format!("fmi2Instantiate failed: {}", msgs.join("; ")))
+        })
+    }
+
+    /// Instantiates for Model Exchange, with the model description's GUID and the FMU's
+    /// resources.
+    pub fn instantiate_model_exchange(&self, name: &str) -> Result<Instance<'_>, ImportError> {
+        if self.model_exchange.is_none() {
+            return err("the FMU does not export the Model Exchange functions".to_string());
+        }
+        let guid = self.description.guid.clone();
+        let uri = self.resource_uri();
+        let (inst, log) =
+            self.instantiate_with(name, fmi2ModelExchange, Some(&guid), Some(&uri), false);
         inst.ok_or_else(|| {
             let msgs: Vec<String> = log.iter().map(|r| r.message.clone()).collect();
             ImportError(format!("fmi2Instantiate failed: {}", msgs.join("; ")))
@@ -738,6 +776,87 @@ impl Instance<'_> {
     pub fn do_step(&mut self, current: f64, step: f64) -> Status {
         // SAFETY: plain values.
         status(unsafe { (self.fmu.functions.fmi2DoStep)(self.c, current, step, fmi2False) })
+    }
+
+    fn me(&self) -> &MeFunctions {
+        // An instance for Model Exchange exists only when the table loaded.
+        self.fmu
+            .model_exchange
+            .as_ref()
+            .expect("Model Exchange functions of an instance made for Model Exchange")
+    }
+
+    /// `fmi2NewDiscreteStates`: the status and the event information.
+    pub fn new_discrete_states(&mut self) -> (Status, fmi2EventInfo) {
+        let mut info = fmi2EventInfo {
+            newDiscreteStatesNeeded: fmi2False,
+            terminateSimulation: fmi2False,
+            nominalsOfContinuousStatesChanged: fmi2False,
+            valuesOfContinuousStatesChanged: fmi2False,
+            nextEventTimeDefined: fmi2False,
+            nextEventTime: 0.0,
+        };
+        // SAFETY: `info` is a valid out-pointer.
+        let s = status(unsafe { (self.me().fmi2NewDiscreteStates)(self.c, &mut info) });
+        (s, info)
+    }
+
+    /// `fmi2EnterContinuousTimeMode`.
+    pub fn enter_continuous_time_mode(&mut self) -> Status {
+        // SAFETY: plain values.
+        status(unsafe { (self.me().fmi2EnterContinuousTimeMode)(self.c) })
+    }
+
+    /// `fmi2SetTime`.
+    pub fn set_time(&mut self, t: f64) -> Status {
+        // SAFETY: plain values.
+        status(unsafe { (self.me().fmi2SetTime)(self.c, t) })
+    }
+
+    /// `fmi2SetContinuousStates`.
+    pub fn set_continuous_states(&mut self, x: &[f64]) -> Status {
+        // SAFETY: the slice is valid for its length.
+        status(unsafe { (self.me().fmi2SetContinuousStates)(self.c, x.as_ptr(), x.len()) })
+    }
+
+    /// `fmi2GetDerivatives` of `nx` states.
+    pub fn get_derivatives(&mut self, nx: usize) -> Result<Vec<f64>, Status> {
+        let mut dx = vec![0.0; nx];
+        // SAFETY: `dx` holds `nx` values.
+        let s = status(unsafe { (self.me().fmi2GetDerivatives)(self.c, dx.as_mut_ptr(), nx) });
+        if s == Status::Ok {
+            Ok(dx)
+        } else {
+            Err(s)
+        }
+    }
+
+    /// `fmi2GetDirectionalDerivative`.
+    pub fn get_directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+    ) -> Result<Vec<f64>, Status> {
+        assert_eq!(knowns.len(), seed.len(), "one seed per known");
+        let mut out = vec![0.0; unknowns.len()];
+        // SAFETY: every slice is valid for the length passed with it.
+        let s = status(unsafe {
+            (self.fmu.functions.fmi2GetDirectionalDerivative)(
+                self.c,
+                unknowns.as_ptr(),
+                unknowns.len(),
+                knowns.as_ptr(),
+                knowns.len(),
+                seed.as_ptr(),
+                out.as_mut_ptr(),
+            )
+        });
+        if s == Status::Ok {
+            Ok(out)
+        } else {
+            Err(s)
+        }
     }
 
     /// `fmi2GetRealStatus`.

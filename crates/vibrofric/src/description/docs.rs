@@ -347,9 +347,30 @@ fn platform_html(scene: &Scene, binary: &Binary) -> String {
          other run-time, no Python, no licence server.</li>\n",
         binary.platform
     ));
-    h.push_str("<li>Any FMI 2.0 Co-Simulation importer: fmpy, OMSimulator, libcosim, Simulink (FMU Import block), Dymola, fmi-sim and others. The FMU carries no Model Exchange interface.</li>\n");
+    h.push_str("<li>Any FMI 2.0 importer, for Co-Simulation (fmpy, OMSimulator, libcosim, ecos, Simulink's FMU Import block, Dymola, fmi-sim and others) or Model Exchange (the importer's own integrator: fmpy's CVode, Dymola, OpenModelica, Simulink, OMSimulator). The FMI 3.0 edition of the same scene offers both as well.</li>\n");
     h.push_str("<li>Other platforms (<code>win64</code>, <code>darwin64</code>) are not in this FMU: export the scene on that platform with the same vibrofric version.</li>\n</ul>\n");
     h
+}
+
+/// What an importer that integrates the FMU itself (Model Exchange) gets.
+fn model_exchange_html(scene: &Scene) -> String {
+    let names = |kind: fn(&VarKind) -> bool| {
+        scene
+            .variables()
+            .filter(|v| kind(&v.kind))
+            .map(|v| format!("<code>{}</code>", escape(v.name())))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let states = names(|k| matches!(k, VarKind::State(_)));
+    let indicators = names(|k| matches!(k, VarKind::Indicator(_)));
+    format!(
+        "<h2>Model Exchange</h2>\n<p>Instantiated for Model Exchange (FMI 2.0 or 3.0), the FMU hands its continuous states to the importer's integrator: {states}, with their derivatives <code>der(...)</code>, the same equations the Co-Simulation solver integrates. Event indicators {indicators} change sign at the kinks of the friction law, shifted by a band of the tolerance so that a stuck contact hovering at <code>v_r = 0</code> gives no train of events; time events end the averaging windows of <code>F_mean</code>. Directional derivatives are exact (closed form). Without communication steps, <code>F_Fx_step</code> and <code>F_Fy_step</code> equal <code>F_Fx</code> and <code>F_Fy</code>.</p>\n<pre>{}</pre>\n",
+        escape(&format!(
+            "from fmpy import simulate_fmu\nresult = simulate_fmu('{}.fmu', fmi_type='ModelExchange',\n                      relative_tolerance=1e-8, stop_time=0.1)",
+            scene.model_identifier
+        ))
+    )
 }
 
 /// The documentation page of a scene's FMU, for a binary whose requirements are not known (the
@@ -445,7 +466,7 @@ pub fn index_html_for(scene: &Scene, binary: &Binary) -> String {
             v.variability(c).as_str(),
             escape(v.unit),
             display_unit_html(v),
-            if causality == Causality::Output { "(calculated)".into() } else { start_html(scene, v) },
+            if matches!(causality, Causality::Output | Causality::Local) { "(calculated)".into() } else { start_html(scene, v) },
             range_html(v, c),
             escape(v.description)
         ));
@@ -473,6 +494,7 @@ pub fn index_html_for(scene: &Scene, binary: &Binary) -> String {
         "<p>From the command line: <code>fmpy simulate {}.fmu --output-interval 1e-3 --stop-time 0.1</code>. The variable table above gives every name and value reference; value references are the same in every vibrofric FMU.</p>\n",
         escape(&scene.model_identifier)
     ));
+    h.push_str(&model_exchange_html(scene));
     h.push_str(&platform_html(scene, binary));
 
     h.push_str("<h2>Logging</h2>\n<ul>\n");
