@@ -216,3 +216,29 @@ def disagreement(ref, other):
     return worst, worst_rel, where
 
 
+
+
+def run_fmi_sim_model_exchange(fmu, h, stop, tmp_path):
+    """fmi-sim's Model Exchange: forward Euler with step `h` (its output interval), events
+    located on the step grid. Returns the row at `stop` of every output (the last row: after
+    the event handling there)."""
+    out = tmp_path / "fmi-sim-me.csv"
+    args = [
+        str(fmi_sim_exe()),
+        "--model", str(fmu),
+        "--output-file", str(out),
+        "model-exchange",
+        "--output-interval", repr(h),
+        "-s", "0",
+        "-f", repr(stop),
+    ]
+    p = subprocess.run(args, capture_output=True, text=True, timeout=300,
+                       env=dict(os.environ, RUST_BACKTRACE="0", RUST_LOG="info"))
+    assert p.returncode == 0, f"{args}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}"
+    bad = [l for l in (p.stdout + p.stderr).splitlines() if "ERROR" in l or "WARN" in l]
+    assert not bad, "\n".join(bad)
+    rows = list(csv.reader(io.StringIO(out.read_text())))
+    header = [c.strip() for c in rows[0]]
+    data = np.array([[float(x) for x in r] for r in rows[1:] if r])
+    assert abs(data[-1, header.index("time")] - stop) <= 1e-12, data[-1]
+    return {name: data[-1, k] for k, name in enumerate(header)}

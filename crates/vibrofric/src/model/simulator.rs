@@ -184,8 +184,8 @@ pub trait Exchange {
     fn derivatives(&self) -> StateVector;
     /// Nominal magnitudes of the states.
     fn nominals(&self) -> StateVector;
-    /// Moves the contact to the importer's time `t` (the inputs hold; the imposed position
-    /// moves with them).
+    /// Moves the contact to the importer's time `t`; the states and the inputs keep their
+    /// values.
     fn set_time(&mut self, t: f64) -> Result<(), SimError>;
     /// Sets an input from the current time on. Unlike [`Simulator::set_input`], a normal
     /// force crossing the lift-off load changes nothing until the event update.
