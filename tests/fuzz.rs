@@ -13,8 +13,9 @@
 //! Scene reader: mutated standard scenes never panic; an accepted one exports a model
 //! description that is well-formed XML.
 //!
-//! CI runs a bounded campaign (`VIBROFRIC_FUZZ_CALLS`, default 300 000 FMI 2.0 calls, and
-//! `VIBROFRIC_FUZZ_CALLS3`, default 100 000 FMI 3.0 calls; under a minute); a long one:
+//! CI runs a bounded campaign (`VIBROFRIC_FUZZ_CALLS`, default 300 000 FMI 2.0 Co-Simulation
+//! calls, `VIBROFRIC_FUZZ_CALLS_ME`, default 100 000 Model Exchange calls, and
+//! `VIBROFRIC_FUZZ_CALLS3`, default 100 000 FMI 3.0 calls; about a minute); a long one:
 //! `VIBROFRIC_FUZZ_CALLS=5000000 VIBROFRIC_FUZZ_SEED=7 cargo test --release --test fuzz -- --nocapture`
 
 #[allow(unused_macros)]
@@ -24,6 +25,7 @@ use std::time::{Duration, Instant};
 
 use fmi_harness::*;
 use vibrofric::description::scene::Scene;
+use vibrofric::description::variables::VarKind;
 use vibrofric::description::xml;
 use vibrofric_import::Status;
 
@@ -72,31 +74,34 @@ fn env_u64(name: &str, default: u64) -> u64 {
 }
 
 /// Values at and beyond the edges of every range.
+const EDGES: [f64; 22] = [
+    0.0,
+    -0.0,
+    1.0,
+    -1.0,
+    1e-300,
+    -1e-300,
+    5e-324,
+    1e300,
+    -1e300,
+    f64::NAN,
+    f64::INFINITY,
+    f64::NEG_INFINITY,
+    1e-12,
+    1e12,
+    1e13,
+    1e7,
+    1e-4,
+    1e6,
+    0.999,
+    0.05,
+    2e-7,
+    1e3,
+];
+
+/// A value for a variable that starts at `start`: an edge, near the start, far from it, or
+/// its negative.
 fn value(rng: &mut Rng, start: f64) -> f64 {
-    const EDGES: [f64; 22] = [
-        0.0,
-        -0.0,
-        1.0,
-        -1.0,
-        1e-300,
-        -1e-300,
-        5e-324,
-        1e300,
-        -1e300,
-        f64::NAN,
-        f64::INFINITY,
-        f64::NEG_INFINITY,
-        1e-12,
-        1e12,
-        1e13,
-        1e7,
-        1e-4,
-        1e6,
-        0.999,
-        0.05,
-        2e-7,
-        1e3,
-    ];
     match rng.below(4) {
         0 => rng.pick(&EDGES),
         1 => start * (1.0 + 0.5 * (rng.unit() - 0.5)),
@@ -560,4 +565,272 @@ fn mutated_scenes_never_panic_and_accepted_ones_export_well_formed_xml() {
         }
     }
     println!("{budget} mutated scenes: {accepted} accepted, {refused} refused with an error");
+}
+
+/// The same campaign on Model Exchange (FMI 2.0): random sequences of initialization, sets,
+/// event updates, mode changes, times (edges, far beyond, backwards), continuous states (edge
+/// values, wrong sizes), derivatives, event indicators, directional derivatives (unknown and
+/// forbidden value references), FMU states (corrupted serialized bytes), terminate and reset,
+/// with the same oracle. Budget `VIBROFRIC_FUZZ_CALLS_ME` (default 100 000).
+#[test]
+fn model_exchange_call_sequences_keep_the_invariants() {
+    let budget = env_u64("VIBROFRIC_FUZZ_CALLS_ME", 100_000);
+    let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
+    let fmus: Vec<_> = FILES
+        .iter()
+        .map(|f| (load(f, &format!("fuzz-me-{f}")), scene(f)))
+        .collect();
+    let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 3);
+    let mut calls = 0u64;
+    let mut slowest = (Duration::ZERO, String::new());
+    let mut by_status = [0u64; 4];
+    while calls < budget {
+        let (fmu, sc) = &fmus[rng.below(fmus.len())];
+        let vrs = all_vrs(sc);
+        let starts: Vec<f64> = sc
+            .variables()
+            .map(|v| sc.start_of(v).unwrap_or(1.0))
+            .collect();
+        let nx = sc
+            .variables()
+            .filter(|v| matches!(v.kind, VarKind::State(_)))
+            .count();
+        let ni = sc.config.event_indicators();
+        let mut inst = fmu.instantiate_model_exchange("fuzz-me").unwrap();
+        let mut t = 0.0;
+        let init = |inst: &mut vibrofric_import::Instance| {
+            inst.setup_experiment(Some(1e-6), 0.0, None);
+            inst.enter_initialization_mode();
+            inst.exit_initialization_mode();
+            inst.new_discrete_states();
+            inst.enter_continuous_time_mode();
+        };
+        if rng.below(4) != 0 {
+            init(&mut inst);
+        }
+        let mut states = vec![];
+        let mut saved: Vec<Vec<u8>> = vec![];
+        for _ in 0..rng.below(200) + 1 {
+            calls += 1;
+            let before = inst.get_real(&vrs).ok();
+            let op = rng.pick(&[
+                0, 1, 2, 3, 4, 5, 6, 6, 7, 7, 8, 8, 9, 10, 11, 12, 13, 14, 15,
+            ]);
+            let started = Instant::now();
+            let (status, what) = match op {
+                0 => {
+                    let t0 = rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]);
+                    t = t0;
+                    (
+                        inst.setup_experiment(Some(1e-6), t0, None),
+                        format!("setup {t0}"),
+                    )
+                }
+                1 => (inst.enter_initialization_mode(), "enter init".into()),
+                2 => (inst.exit_initialization_mode(), "exit init".into()),
+                3 => {
+                    let k = rng.below(vrs.len() + 1);
+                    let (vr, x) = if k == vrs.len() {
+                        (rng.pick(&[0u32, 99, 301, 401, 501, u32::MAX]), 1.0)
+                    } else {
+                        (vrs[k], value(&mut rng, starts[k]))
+                    };
+                    (inst.set_real(&[vr], &[x]), format!("set vr {vr} = {x:e}"))
+                }
+                4 => (inst.new_discrete_states().0, "event update".into()),
+                5 => match rng.below(3) {
+                    0 => (inst.enter_continuous_time_mode(), "continuous time".into()),
+                    1 => (inst.enter_event_mode(), "event mode".into()),
+                    _ => (inst.completed_integrator_step(), "completed step".into()),
+                },
+                6 => {
+                    let next = rng.pick(&[
+                        t + 1e-5,
+                        t + 2.5e-4,
+                        t + 1e-3,
+                        t - 1e-4,
+                        1e300,
+                        -1e300,
+                        f64::NAN,
+                        f64::INFINITY,
+                    ]);
+                    let s = inst.set_time(next);
+                    if s == Status::Ok {
+                        t = next;
+                    }
+                    (s, format!("set time {next:e}"))
+                }
+                7 => {
+                    let n = if rng.below(10) == 0 { nx + 1 } else { nx };
+                    let x: Vec<f64> = (0..n)
+                        .map(|_| match rng.below(3) {
+                            0 => rng.pick(&EDGES),
+                            _ => 1e-7 * (rng.unit() - 0.5),
+                        })
+                        .collect();
+                    (inst.set_continuous_states(&x), format!("set states {x:?}"))
+                }
+                8 => {
+                    let n = if rng.below(10) == 0 { nx + 1 } else { nx };
+                    match inst.get_derivatives(n) {
+                        Ok(d) => {
+                            assert!(
+                                d.iter().all(|x| x.is_finite()),
+                                "{}: derivatives {d:?} with fmi2OK",
+                                sc.model_identifier
+                            );
+                            (Status::Ok, "derivatives".into())
+                        }
+                        Err(s) => (s, "derivatives".into()),
+                    }
+                }
+                9 => {
+                    let n = if rng.below(10) == 0 { ni + 1 } else { ni };
+                    match inst.get_event_indicators(n) {
+                        Ok(z) => {
+                            assert!(
+                                z.iter().all(|x| x.is_finite()),
+                                "{}: event indicators {z:?} with fmi2OK",
+                                sc.model_identifier
+                            );
+                            (Status::Ok, "event indicators".into())
+                        }
+                        Err(s) => (s, "event indicators".into()),
+                    }
+                }
+                10 => {
+                    let pick = |rng: &mut Rng| {
+                        if rng.below(6) == 0 {
+                            rng.pick(&[0u32, 99, u32::MAX])
+                        } else {
+                            vrs[rng.below(vrs.len())]
+                        }
+                    };
+                    let (u, k) = (pick(&mut rng), pick(&mut rng));
+                    let seed = value(&mut rng, 1.0);
+                    match inst.get_directional_derivative(&[u], &[k], &[seed]) {
+                        Ok(d) => {
+                            assert!(
+                                d[0].is_finite(),
+                                "{}: d {u}/d {k} = {}",
+                                sc.model_identifier,
+                                d[0]
+                            );
+                            (Status::Ok, format!("directional {u} {k}"))
+                        }
+                        Err(s) => (s, format!("directional {u} {k}")),
+                    }
+                }
+                11 => match inst.get_state() {
+                    Ok(st) => {
+                        states.push(st);
+                        (Status::Ok, "get state".into())
+                    }
+                    Err(s) => (s, "get state".into()),
+                },
+                12 if !states.is_empty() => {
+                    let k = rng.below(states.len());
+                    (inst.set_state(&states[k]), "set state".into())
+                }
+                13 if !states.is_empty() => {
+                    let k = rng.below(states.len());
+                    match inst.serialize_state(&states[k]) {
+                        Ok(b) => {
+                            saved.push(b);
+                            (Status::Ok, "serialize".into())
+                        }
+                        Err(s) => (s, "serialize".into()),
+                    }
+                }
+                14 if !saved.is_empty() => {
+                    let mut b = saved[rng.below(saved.len())].clone();
+                    match rng.below(3) {
+                        0 => {
+                            let i = rng.below(b.len());
+                            b[i] ^= 1 << rng.below(8);
+                        }
+                        1 => b.truncate(rng.below(b.len())),
+                        _ => {}
+                    }
+                    match inst.deserialize_state(&b) {
+                        Ok(st) => (inst.set_state(&st), "deserialize + set".into()),
+                        Err(s) => (s, "deserialize".into()),
+                    }
+                }
+                15 => {
+                    if rng.below(2) == 0 {
+                        (inst.terminate(), "terminate".into())
+                    } else {
+                        t = 0.0;
+                        (inst.reset(), "reset".into())
+                    }
+                }
+                _ => (
+                    inst.get_real(&vrs).map_or_else(|s| s, |_| Status::Ok),
+                    "get".into(),
+                ),
+            };
+            let took = started.elapsed();
+            assert!(
+                took < CALL_BOUND,
+                "{}: {what} took {took:?}",
+                sc.model_identifier
+            );
+            if took > slowest.0 {
+                slowest = (took, format!("{}: {what}", sc.model_identifier));
+            }
+            assert!(
+                matches!(status, Status::Ok | Status::Warning | Status::Error),
+                "{}: {what} returned {status:?}",
+                sc.model_identifier
+            );
+            by_status[match status {
+                Status::Ok => 0,
+                Status::Warning => 1,
+                Status::Discard => 2,
+                _ => 3,
+            }] += 1;
+            let after = inst.get_real(&vrs);
+            if let Ok(values) = &after {
+                if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+                    panic!(
+                        "{}: after {what}, vr {} = {} with fmi2OK",
+                        sc.model_identifier, vrs[k], values[k]
+                    );
+                }
+            }
+            let values_change = matches!(op, 12 | 14 | 15);
+            if status == Status::Error && !values_change {
+                if let (Some(b), Ok(a)) = (&before, &after) {
+                    assert_eq!(
+                        bits(b),
+                        bits(a),
+                        "{}: {what} was refused but changed values",
+                        sc.model_identifier
+                    );
+                }
+            }
+            if status == Status::Error {
+                let s = inst.reset();
+                assert_eq!(
+                    s,
+                    Status::Ok,
+                    "{}: reset after {what}: {}",
+                    sc.model_identifier,
+                    inst.last_message()
+                );
+                t = 0.0;
+                if rng.below(4) != 0 {
+                    init(&mut inst);
+                }
+            }
+        }
+        for st in states {
+            inst.free_state(st);
+        }
+    }
+    println!(
+        "Model Exchange: {calls} calls (seed {seed}): {} OK, {} warning, {} discard, {} error; slowest {:?} ({})",
+        by_status[0], by_status[1], by_status[2], by_status[3], slowest.0, slowest.1
+    );
 }

@@ -92,3 +92,20 @@ def test_fmu_page_snippet_runs(tmp_path, name):
     assert f'"{name}.fmu"' in code
     out = run_in_copy(tmp_path, code)
     assert out.strip(), "the snippet prints its result"
+
+
+def test_fmu_page_model_exchange_snippet_runs(tmp_path):
+    """The Model Exchange snippet of a page runs as written (through fmpy's CVode)."""
+    with zipfile.ZipFile(fmu_path("DrillStringAxial")) as z:
+        page = z.read("documentation/index.html").decode()
+    m = re.search(r"<h2>Model Exchange</h2>.*?<pre>(.*?)</pre>", page, re.S)
+    assert m, "no Model Exchange snippet"
+    # The snippet's result against the Co-Simulation run of the same FMU.
+    code = html.unescape(m.group(1)) + (
+        "\ncs = simulate_fmu('DrillStringAxial.fmu', relative_tolerance=1e-8, stop_time=0.1)"
+        "\nfor n in ('x', 'F_Fx'):"
+        "\n    scale = max(abs(cs[n]).max(), 1e-12)"
+        "\n    assert abs(result[n][-1] - cs[n][-1]) <= 1e-5 * scale, (n, result[n][-1], cs[n][-1])\n"
+    )
+    run_in_copy(tmp_path, code)
+

@@ -801,6 +801,34 @@ impl Instance<'_> {
         (s, info)
     }
 
+    /// `fmi2EnterEventMode`.
+    pub fn enter_event_mode(&mut self) -> Status {
+        // SAFETY: plain values.
+        status(unsafe { (self.me().fmi2EnterEventMode)(self.c) })
+    }
+
+    /// `fmi2CompletedIntegratorStep` (with `noSetFMUStatePriorToCurrentPoint` true); the status
+    /// only (this FMU never asks for an event or to terminate there).
+    pub fn completed_integrator_step(&mut self) -> Status {
+        let (mut event, mut terminate) = (fmi2False, fmi2False);
+        // SAFETY: both are valid out-pointers.
+        status(unsafe {
+            (self.me().fmi2CompletedIntegratorStep)(self.c, fmi2True, &mut event, &mut terminate)
+        })
+    }
+
+    /// `fmi2GetEventIndicators` of `ni` indicators.
+    pub fn get_event_indicators(&mut self, ni: usize) -> Result<Vec<f64>, Status> {
+        let mut z = vec![0.0; ni];
+        // SAFETY: `z` holds `ni` values.
+        let s = status(unsafe { (self.me().fmi2GetEventIndicators)(self.c, z.as_mut_ptr(), ni) });
+        if s == Status::Ok {
+            Ok(z)
+        } else {
+            Err(s)
+        }
+    }
+
     /// `fmi2EnterContinuousTimeMode`.
     pub fn enter_continuous_time_mode(&mut self) -> Status {
         // SAFETY: plain values.

@@ -64,7 +64,13 @@ impl Instance {
         };
         match sim.set_time(t) {
             Ok(()) => Status::Ok,
-            Err(_) => self.fail(call.name, format!("time = {t}: must be finite")),
+            Err(_) => self.fail(
+                call.name,
+                format!(
+                    "time = {t}: must be finite and within {:e} averaging windows of the start time",
+                    crate::model::WINDOWS_MAX
+                ),
+            ),
         }
     }
 
@@ -155,6 +161,15 @@ impl Instance {
         match self.simulator_now() {
             Ok(sim) => sim.event_indicators(out),
             Err(e) => return self.fail(call.name, e),
+        }
+        if let Some(z) = out.iter().find(|z| !z.is_finite()) {
+            return self.fail(
+                call.name,
+                format!(
+                    "an event indicator evaluates to {z}; restore a state with {}",
+                    call.words.set_state
+                ),
+            );
         }
         Status::Ok
     }

@@ -38,7 +38,7 @@ pub use simulator::{
     EventUpdate, Exchange, Path, SimError, Simulator, StateVector, StepStats, TOLERANCE_RANGE,
 };
 pub use state::{ContactState, StepMeanState, WindowState};
-pub use time::{canonical_time, MAX_INPUT_RATE};
+pub use time::{canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
 
 use crate::physics::{Dahl, Dupont, LuGre, ParamId, Params, Planar};
 use contact::boxed;

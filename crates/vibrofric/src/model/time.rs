@@ -2,7 +2,7 @@
 
 /// Most averaging windows one communication step may span: their index stays exact in a
 /// double and in the window count.
-pub(super) const WINDOWS_MAX: f64 = 4e15;
+pub const WINDOWS_MAX: f64 = 4e15;
 
 /// Largest magnitude of an input derivative, per second in the input's unit: far beyond any
 /// physical rate, small enough that an input extrapolated over any step stays finite.
