@@ -490,34 +490,41 @@ impl Instance {
             return s;
         }
         let mut vars = Vec::with_capacity(vrs.len());
-        let mut need_outputs = false;
         for &vr in vrs {
             match self.lookup(vr) {
-                Ok(v) => {
-                    need_outputs |= v.causality(&self.scene.config) != Causality::Parameter
-                        && v.causality(&self.scene.config) != Causality::Input;
-                    vars.push(v);
-                }
+                Ok(v) => vars.push(v),
                 Err(msg) => return self.fail(f, msg),
             }
         }
+        // Only what the call reads is computed: outputs (one evaluation), and the states,
+        // derivatives and event indicators of Model Exchange when one of them is asked for.
+        let config = self.scene.config;
+        let asks = |kind: fn(&VarKind) -> bool| vars.iter().any(|v| kind(&v.kind));
+        let need_outputs = vars.iter().any(|v| v.output(&config).is_some());
+        let need_states = asks(|k| matches!(k, VarKind::State(_)));
+        let need_derivatives = asks(|k| matches!(k, VarKind::Derivative(_)));
+        let need_indicators = asks(|k| matches!(k, VarKind::Indicator(_)));
+        let mut outputs = Outputs::default();
+        let (mut states, mut derivatives) = ([0.0; StateId::COUNT], [0.0; StateId::COUNT]);
         let mut indicators = [0.0; IndicatorId::ALL.len()];
-        let n_indicators = self.scene.config.event_indicators();
-        let (outputs, states, derivatives) = if need_outputs {
-            match self.simulator_now() {
-                Ok(sim) => {
-                    sim.event_indicators(&mut indicators[..n_indicators]);
-                    (sim.outputs(), sim.states(), sim.derivatives())
-                }
+        if need_outputs || need_states || need_derivatives || need_indicators {
+            let sim = match self.simulator_now() {
+                Ok(sim) => sim,
                 Err(e) => return self.fail(f, e),
+            };
+            if need_outputs {
+                outputs = sim.outputs();
             }
-        } else {
-            (
-                Outputs::default(),
-                [0.0; StateId::COUNT],
-                [0.0; StateId::COUNT],
-            )
-        };
+            if need_states {
+                states = sim.states();
+            }
+            if need_derivatives {
+                derivatives = sim.derivatives();
+            }
+            if need_indicators {
+                sim.event_indicators(&mut indicators[..config.event_indicators()]);
+            }
+        }
         for (v, out) in vars.iter().zip(values.iter_mut()) {
             *out = match v.kind {
                 VarKind::Param(ParamId::FN) if self.scene.config.normal_input => self.st.inputs.f_n,
