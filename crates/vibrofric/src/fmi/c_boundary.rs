@@ -1,6 +1,7 @@
 //! What every FMI version's C layer shares: the boxes behind instance and state pointers (with a
 //! magic number, so that a pointer of the wrong kind is refused rather than used), running a
-//! call on an instance with panics caught, and turning C arrays and strings into Rust ones.
+//! call on an instance with panics caught, turning C arrays and strings into Rust ones, and the
+//! bodies of the FMU-state and Model Exchange vector functions.
 #![allow(clippy::missing_safety_doc)]
 
 use std::ffi::CStr;
@@ -86,6 +87,37 @@ pub(crate) fn null(inst: &mut Instance, f: &str, arg: &str, n: usize) -> Status 
         f,
         format!("{arg} = NULL with nvr = {n}: must point to {n} elements"),
     )
+}
+
+/// A Model Exchange getter that fills the importer's vector `out` of `n` reals (argument `arg`):
+/// the pointer checked, then `get` on the slice.
+pub(crate) unsafe fn fill(
+    inst: &mut Instance,
+    call: Call,
+    arg: &str,
+    out: *mut f64,
+    n: usize,
+    get: fn(&mut Instance, Call, &mut [f64]) -> Status,
+) -> Status {
+    match array_mut(out, n) {
+        Some(out) => get(inst, call, out),
+        None => null(inst, call.name, arg, n),
+    }
+}
+
+/// `fmi2SetContinuousStates`, `fmi3SetContinuousStates`: the importer's `n` states `x`
+/// (argument `arg`).
+pub(crate) unsafe fn set_states(
+    inst: &mut Instance,
+    call: Call,
+    arg: &str,
+    x: *const f64,
+    n: usize,
+) -> Status {
+    match array(x, n) {
+        Some(x) => inst.set_continuous_states(call, x),
+        None => null(inst, call.name, arg, n),
+    }
 }
 
 pub(crate) unsafe fn string(s: *const c_char) -> Option<String> {

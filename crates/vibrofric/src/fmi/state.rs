@@ -63,6 +63,11 @@ pub enum Interface {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct States(u32);
 
+use State::{
+    ContinuousTimeMode as Continuous, Error, EventMode as Event, InitializationMode as Init,
+    Instantiated, StepComplete, StepFailed, Terminated,
+};
+
 impl States {
     pub const fn of(states: &[State]) -> States {
         let mut bits = 0;
@@ -77,6 +82,51 @@ impl States {
     pub const fn contains(self, s: State) -> bool {
         self.0 & (1 << s as u32) != 0
     }
+
+    /// Every state but `Fatal`.
+    pub const ANY: States = States::of(&[
+        Instantiated,
+        Init,
+        StepComplete,
+        StepFailed,
+        Terminated,
+        Error,
+        Event,
+        Continuous,
+    ]);
+    /// Every state: calls that answer (with an error) even after a fatal one.
+    pub const EVERY: States = States::of(&State::ALL);
+    /// Getting values: from initialization on.
+    pub const GET: States = States::of(&[
+        Init,
+        StepComplete,
+        StepFailed,
+        Terminated,
+        Error,
+        Event,
+        Continuous,
+    ]);
+    /// Setting values: parameters and inputs before initialization ends; then, in
+    /// Co-Simulation between steps, in Model Exchange tunable parameters and inputs in event
+    /// mode and inputs in continuous-time mode (the instance checks which).
+    pub const SET: States = States::of(&[Instantiated, Init, StepComplete, Event, Continuous]);
+    /// Evaluating the model's equations (derivatives, event indicators, states): from
+    /// initialization on, in the states of Model Exchange.
+    pub const EVALUATE: States = States::of(&[Init, Event, Continuous, Terminated, Error]);
+    /// Nominal values of the states: also before initialization.
+    pub const NOMINALS: States =
+        States::of(&[Instantiated, Init, Event, Continuous, Terminated, Error]);
+    /// Directional derivatives: from initialization on (a Co-Simulation instance answers
+    /// that it has none).
+    pub const DIRECTIONAL: States = States::of(&[
+        Init,
+        StepComplete,
+        StepFailed,
+        Event,
+        Continuous,
+        Terminated,
+        Error,
+    ]);
 
     /// The states' names, comma-separated, in the order of [`State::ALL`].
     pub fn names(self) -> String {

@@ -21,8 +21,8 @@ use super::types::*;
 use super::{co_simulation, Function};
 use crate::description::log::Category;
 use crate::fmi::c_boundary::{
-    array, array_mut, component, deserialize_state, free_state, get_state, null, run,
-    serialize_state, set_state, state_size, string, Component, COMPONENT_MAGIC,
+    array, array_mut, component, deserialize_state, fill, free_state, get_state, null, run,
+    serialize_state, set_state, set_states, state_size, string, Component, COMPONENT_MAGIC,
 };
 use crate::fmi::{Call, Instance, Interface, Logger, NoLogger, Status};
 
@@ -552,29 +552,8 @@ pub unsafe extern "C" fn fmi2SetContinuousStates(
     x: *const fmi2Real,
     nx: usize,
 ) -> fmi2Status {
-    const F: Function = Function::SetContinuousStates;
-    call(c, F, |inst, call| {
-        let Some(x) = array(x, nx) else {
-            return null(inst, F.name(), "x", nx);
-        };
-        inst.set_continuous_states(call, x)
-    })
-}
-
-/// The getters of Model Exchange that fill a vector of `n` reals.
-unsafe fn get_vector(
-    c: fmi2Component,
-    f: Function,
-    arg: &str,
-    out: *mut fmi2Real,
-    n: usize,
-    get: impl FnOnce(&mut Instance, Call, &mut [f64]) -> Status,
-) -> fmi2Status {
-    call(c, f, |inst, call| {
-        let Some(out) = array_mut(out, n) else {
-            return null(inst, f.name(), arg, n);
-        };
-        get(inst, call, out)
+    call(c, Function::SetContinuousStates, |i, call| {
+        set_states(i, call, "x", x, nx)
     })
 }
 
@@ -584,14 +563,16 @@ pub unsafe extern "C" fn fmi2GetDerivatives(
     derivatives: *mut fmi2Real,
     nx: usize,
 ) -> fmi2Status {
-    get_vector(
-        c,
-        Function::GetDerivatives,
-        "derivatives",
-        derivatives,
-        nx,
-        |i, call, out| i.get_derivatives(call, out),
-    )
+    call(c, Function::GetDerivatives, |i, call| {
+        fill(
+            i,
+            call,
+            "derivatives",
+            derivatives,
+            nx,
+            Instance::get_derivatives,
+        )
+    })
 }
 
 #[no_mangle]
@@ -600,14 +581,16 @@ pub unsafe extern "C" fn fmi2GetEventIndicators(
     eventIndicators: *mut fmi2Real,
     ni: usize,
 ) -> fmi2Status {
-    get_vector(
-        c,
-        Function::GetEventIndicators,
-        "eventIndicators",
-        eventIndicators,
-        ni,
-        |i, call, out| i.get_event_indicators(call, out),
-    )
+    call(c, Function::GetEventIndicators, |i, call| {
+        fill(
+            i,
+            call,
+            "eventIndicators",
+            eventIndicators,
+            ni,
+            Instance::get_event_indicators,
+        )
+    })
 }
 
 #[no_mangle]
@@ -616,14 +599,9 @@ pub unsafe extern "C" fn fmi2GetContinuousStates(
     x: *mut fmi2Real,
     nx: usize,
 ) -> fmi2Status {
-    get_vector(
-        c,
-        Function::GetContinuousStates,
-        "x",
-        x,
-        nx,
-        |i, call, out| i.get_continuous_states(call, out),
-    )
+    call(c, Function::GetContinuousStates, |i, call| {
+        fill(i, call, "x", x, nx, Instance::get_continuous_states)
+    })
 }
 
 #[no_mangle]
@@ -632,14 +610,9 @@ pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(
     x_nominal: *mut fmi2Real,
     nx: usize,
 ) -> fmi2Status {
-    get_vector(
-        c,
-        Function::GetNominalsOfContinuousStates,
-        "x_nominal",
-        x_nominal,
-        nx,
-        |i, call, out| i.get_nominals(call, out),
-    )
+    call(c, Function::GetNominalsOfContinuousStates, |i, call| {
+        fill(i, call, "x_nominal", x_nominal, nx, Instance::get_nominals)
+    })
 }
 
 // ---- Co-Simulation --------------------------------------------------------------------------

@@ -56,35 +56,7 @@ use State::{
     Instantiated, StepComplete, StepFailed, Terminated,
 };
 
-/// Every state but `Fatal`.
-const ANY: States = States::of(&[
-    Instantiated,
-    Init,
-    StepComplete,
-    StepFailed,
-    Terminated,
-    Error,
-    Event,
-    Continuous,
-]);
-/// Every state: calls that answer (with an error) even after a fatal one.
-const EVERY: States = States::of(&State::ALL);
-const GET: States = States::of(&[
-    Init,
-    StepComplete,
-    StepFailed,
-    Terminated,
-    Error,
-    Event,
-    Continuous,
-]);
-/// `fmi2SetReal`: parameters and inputs before initialization ends; then, in Co-Simulation
-/// between steps, in Model Exchange tunable parameters and inputs in event mode and inputs in
-/// continuous-time mode (the instance checks which).
-const SET: States = States::of(&[Instantiated, Init, StepComplete, Event, Continuous]);
 const STATUS: States = States::of(&[StepComplete, StepFailed, Terminated]);
-/// The model's equations, evaluated: from initialization on (FMI 2.0, table of section 3.2.3).
-const EVALUATE: States = States::of(&[Init, Event, Continuous, Terminated, Error]);
 
 impl Function {
     /// The C name.
@@ -142,36 +114,26 @@ impl Function {
     pub const fn allowed(self) -> States {
         use Function::*;
         match self {
-            Instantiate | FreeInstance | CancelStep => EVERY,
-            SetDebugLogging | Reset => ANY,
+            Instantiate | FreeInstance | CancelStep => States::EVERY,
+            SetDebugLogging | Reset => States::ANY,
             SetupExperiment | EnterInitializationMode => States::of(&[Instantiated]),
             ExitInitializationMode => States::of(&[Init]),
             Terminate => States::of(&[StepComplete, StepFailed, Event, Continuous]),
-            GetDirectionalDerivative => States::of(&[
-                Init,
-                StepComplete,
-                StepFailed,
-                Event,
-                Continuous,
-                Terminated,
-                Error,
-            ]),
+            GetDirectionalDerivative => States::DIRECTIONAL,
             EnterEventMode => States::of(&[Event, Continuous]),
             NewDiscreteStates | EnterContinuousTimeMode => States::of(&[Event]),
             CompletedIntegratorStep | SetContinuousStates => States::of(&[Continuous]),
             SetTime => States::of(&[Event, Continuous]),
-            GetDerivatives | GetEventIndicators | GetContinuousStates => EVALUATE,
-            GetNominalsOfContinuousStates => {
-                States::of(&[Instantiated, Init, Event, Continuous, Terminated, Error])
-            }
-            GetReal | GetInteger | GetBoolean | GetString => GET,
-            SetReal | SetInteger | SetBoolean | SetString | SetRealInputDerivatives => SET,
+            GetDerivatives | GetEventIndicators | GetContinuousStates => States::EVALUATE,
+            GetNominalsOfContinuousStates => States::NOMINALS,
+            GetReal | GetInteger | GetBoolean | GetString => States::GET,
+            SetReal | SetInteger | SetBoolean | SetString | SetRealInputDerivatives => States::SET,
             GetFMUstate
             | SetFMUstate
             | FreeFMUstate
             | SerializedFMUstateSize
             | SerializeFMUstate
-            | DeSerializeFMUstate => ANY,
+            | DeSerializeFMUstate => States::ANY,
             GetRealOutputDerivatives => States::of(&[StepComplete, StepFailed, Terminated, Error]),
             DoStep => States::of(&[StepComplete]),
             GetStatus | GetRealStatus | GetIntegerStatus | GetBooleanStatus | GetStringStatus => {

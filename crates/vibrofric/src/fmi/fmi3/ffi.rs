@@ -19,8 +19,8 @@ use super::Function;
 use crate::description::log::Category;
 use crate::description::xml3::TIME_VR;
 use crate::fmi::c_boundary::{
-    array, array_mut, component, deserialize_state, free_state, get_state, null, run,
-    serialize_state, set_state, state_size, string, Component, COMPONENT_MAGIC,
+    array, array_mut, component, deserialize_state, fill, free_state, get_state, null, run,
+    serialize_state, set_state, set_states, state_size, string, Component, COMPONENT_MAGIC,
 };
 use crate::fmi::{Call, Instance, Interface, Logger, NoLogger, Status};
 
@@ -802,29 +802,14 @@ pub unsafe extern "C" fn fmi3SetContinuousStates(
     continuousStates: *const fmi3Float64,
     nContinuousStates: usize,
 ) -> fmi3Status {
-    const F: Function = Function::SetContinuousStates;
-    call(instance, F, |inst, call| {
-        let Some(x) = array(continuousStates, nContinuousStates) else {
-            return null(inst, F.name(), "continuousStates", nContinuousStates);
-        };
-        inst.set_continuous_states(call, x)
-    })
-}
-
-/// The getters of Model Exchange that fill a vector of `n` floats.
-unsafe fn get_vector(
-    instance: fmi3Instance,
-    f: Function,
-    arg: &str,
-    out: *mut fmi3Float64,
-    n: usize,
-    get: impl FnOnce(&mut Instance, Call, &mut [f64]) -> Status,
-) -> fmi3Status {
-    call(instance, f, |inst, call| {
-        let Some(out) = array_mut(out, n) else {
-            return null(inst, f.name(), arg, n);
-        };
-        get(inst, call, out)
+    call(instance, Function::SetContinuousStates, |i, call| {
+        set_states(
+            i,
+            call,
+            "continuousStates",
+            continuousStates,
+            nContinuousStates,
+        )
     })
 }
 
@@ -834,14 +819,19 @@ pub unsafe extern "C" fn fmi3GetContinuousStateDerivatives(
     derivatives: *mut fmi3Float64,
     nContinuousStates: usize,
 ) -> fmi3Status {
-    let f = Function::GetContinuousStateDerivatives;
-    get_vector(
+    call(
         instance,
-        f,
-        "derivatives",
-        derivatives,
-        nContinuousStates,
-        |i, call, out| i.get_derivatives(call, out),
+        Function::GetContinuousStateDerivatives,
+        |i, call| {
+            fill(
+                i,
+                call,
+                "derivatives",
+                derivatives,
+                nContinuousStates,
+                Instance::get_derivatives,
+            )
+        },
     )
 }
 
@@ -851,15 +841,16 @@ pub unsafe extern "C" fn fmi3GetEventIndicators(
     eventIndicators: *mut fmi3Float64,
     nEventIndicators: usize,
 ) -> fmi3Status {
-    let f = Function::GetEventIndicators;
-    get_vector(
-        instance,
-        f,
-        "eventIndicators",
-        eventIndicators,
-        nEventIndicators,
-        |i, call, out| i.get_event_indicators(call, out),
-    )
+    call(instance, Function::GetEventIndicators, |i, call| {
+        fill(
+            i,
+            call,
+            "eventIndicators",
+            eventIndicators,
+            nEventIndicators,
+            Instance::get_event_indicators,
+        )
+    })
 }
 
 #[no_mangle]
@@ -868,15 +859,16 @@ pub unsafe extern "C" fn fmi3GetContinuousStates(
     continuousStates: *mut fmi3Float64,
     nContinuousStates: usize,
 ) -> fmi3Status {
-    let f = Function::GetContinuousStates;
-    get_vector(
-        instance,
-        f,
-        "continuousStates",
-        continuousStates,
-        nContinuousStates,
-        |i, call, out| i.get_continuous_states(call, out),
-    )
+    call(instance, Function::GetContinuousStates, |i, call| {
+        fill(
+            i,
+            call,
+            "continuousStates",
+            continuousStates,
+            nContinuousStates,
+            Instance::get_continuous_states,
+        )
+    })
 }
 
 #[no_mangle]
@@ -885,14 +877,19 @@ pub unsafe extern "C" fn fmi3GetNominalsOfContinuousStates(
     nominals: *mut fmi3Float64,
     nContinuousStates: usize,
 ) -> fmi3Status {
-    let f = Function::GetNominalsOfContinuousStates;
-    get_vector(
+    call(
         instance,
-        f,
-        "nominals",
-        nominals,
-        nContinuousStates,
-        |i, call, out| i.get_nominals(call, out),
+        Function::GetNominalsOfContinuousStates,
+        |i, call| {
+            fill(
+                i,
+                call,
+                "nominals",
+                nominals,
+                nContinuousStates,
+                Instance::get_nominals,
+            )
+        },
     )
 }
 

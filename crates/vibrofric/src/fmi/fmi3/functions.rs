@@ -54,33 +54,6 @@ use State::{
     Instantiated, StepComplete, StepFailed, Terminated,
 };
 
-/// Every state but `Fatal`.
-const ANY: States = States::of(&[
-    Instantiated,
-    Init,
-    StepComplete,
-    StepFailed,
-    Terminated,
-    Error,
-    Event,
-    Continuous,
-]);
-const EVERY: States = States::of(&State::ALL);
-const GET: States = States::of(&[
-    Init,
-    StepComplete,
-    StepFailed,
-    Terminated,
-    Error,
-    Event,
-    Continuous,
-]);
-/// Parameters and inputs; in Model Exchange, tunable parameters in event mode and inputs in
-/// both modes (the instance checks which).
-const SET: States = States::of(&[Instantiated, Init, StepComplete, Event, Continuous]);
-/// The model's equations, evaluated: from initialization on.
-const EVALUATE: States = States::of(&[Init, Event, Continuous, Terminated, Error]);
-
 impl Function {
     /// The C name.
     pub const fn name(self) -> &'static str {
@@ -130,39 +103,31 @@ impl Function {
             | InstantiateModelExchange
             | InstantiateScheduledExecution
             | FreeInstance
-            | Unsupported(_) => EVERY,
-            SetDebugLogging | Reset => ANY,
+            | Unsupported(_) => States::EVERY,
+            SetDebugLogging | Reset => States::ANY,
             EnterInitializationMode => States::of(&[Instantiated]),
             ExitInitializationMode => States::of(&[Init]),
             Terminate => States::of(&[StepComplete, StepFailed, Event, Continuous]),
-            GetFloat64 | GetOther(_) => GET,
-            SetFloat64 | SetOther(_) => SET,
+            GetFloat64 | GetOther(_) => States::GET,
+            SetFloat64 | SetOther(_) => States::SET,
             GetFMUState
             | SetFMUState
             | FreeFMUState
             | SerializedFMUStateSize
             | SerializeFMUState
-            | DeserializeFMUState => ANY,
+            | DeserializeFMUState => States::ANY,
             GetOutputDerivatives => States::of(&[StepComplete, StepFailed, Terminated, Error]),
             DoStep => States::of(&[StepComplete]),
-            GetDirectionalDerivative => States::of(&[
-                Init,
-                StepComplete,
-                StepFailed,
-                Event,
-                Continuous,
-                Terminated,
-                Error,
-            ]),
+            GetDirectionalDerivative => States::DIRECTIONAL,
             EnterEventMode => States::of(&[Event, Continuous]),
             UpdateDiscreteStates | EnterContinuousTimeMode => States::of(&[Event]),
             CompletedIntegratorStep | SetContinuousStates => States::of(&[Continuous]),
             SetTime => States::of(&[Event, Continuous]),
-            GetContinuousStateDerivatives | GetEventIndicators | GetContinuousStates => EVALUATE,
-            GetNominalsOfContinuousStates => {
-                States::of(&[Instantiated, Init, Event, Continuous, Terminated, Error])
+            GetContinuousStateDerivatives | GetEventIndicators | GetContinuousStates => {
+                States::EVALUATE
             }
-            GetNumberOfEventIndicators | GetNumberOfContinuousStates => ANY,
+            GetNominalsOfContinuousStates => States::NOMINALS,
+            GetNumberOfEventIndicators | GetNumberOfContinuousStates => States::ANY,
         }
     }
 
