@@ -110,6 +110,66 @@ fn value(rng: &mut Rng, start: f64) -> f64 {
     }
 }
 
+/// Every value of an instance, or the status that refused to read them.
+type Values = Result<Vec<f64>, Status>;
+
+/// The oracle after every call of a campaign, and what it counts.
+#[derive(Default)]
+struct Oracle {
+    slowest: (Duration, String),
+    by_status: [u64; 4],
+}
+
+impl Oracle {
+    /// The call `what` returned `status`, one of those `allowed` (never fmi2Fatal or Pending),
+    /// within `CALL_BOUND`; the values of `vrs` read after it are finite when read with OK, and
+    /// a call refused with Error or Discard left them as they were `before`, unless it is one
+    /// that changes values (`may_change`: setting a saved state, reset).
+    fn check(
+        &mut self,
+        sc: &Scene,
+        what: &str,
+        (status, allowed): (Status, &[Status]),
+        took: Duration,
+        (vrs, before, after): (&[u32], &Option<Vec<f64>>, &Values),
+        may_change: bool,
+    ) {
+        let id = &sc.model_identifier;
+        assert!(took < CALL_BOUND, "{id}: {what} took {took:?}");
+        if took > self.slowest.0 {
+            self.slowest = (took, format!("{id}: {what}"));
+        }
+        assert!(
+            allowed.contains(&status),
+            "{id}: {what} returned {status:?}"
+        );
+        self.by_status[(status as usize).min(3)] += 1;
+        if let Ok(values) = after {
+            if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+                panic!("{id}: after {what}, vr {} = {} with OK", vrs[k], values[k]);
+            }
+        }
+        let refused = matches!(status, Status::Error | Status::Discard);
+        if refused && !may_change {
+            if let (Some(b), Ok(a)) = (before, after) {
+                assert_eq!(
+                    bits(b),
+                    bits(a),
+                    "{id}: {what} was refused but changed values"
+                );
+            }
+        }
+    }
+
+    fn summary(&self) -> String {
+        let [ok, warning, discard, error] = self.by_status;
+        format!(
+            "{ok} OK, {warning} warning, {discard} discard, {error} error; slowest {:?} ({})",
+            self.slowest.0, self.slowest.1
+        )
+    }
+}
+
 #[test]
 fn c_api_call_sequences_keep_the_invariants() {
     let budget = env_u64("VIBROFRIC_FUZZ_CALLS", 300_000);
@@ -120,8 +180,7 @@ fn c_api_call_sequences_keep_the_invariants() {
         .collect();
     let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
     let mut calls = 0u64;
-    let mut slowest = (Duration::ZERO, String::new());
-    let mut by_status = [0u64; 4];
+    let mut oracle = Oracle::default();
     while calls < budget {
         let (fmu, sc) = &fmus[rng.below(fmus.len())];
         let vrs = all_vrs(sc);
@@ -262,50 +321,18 @@ fn c_api_call_sequences_keep_the_invariants() {
                     "get".into(),
                 ),
             };
-            let took = started.elapsed();
-            assert!(
-                took < CALL_BOUND,
-                "{}: {what} took {took:?}",
-                sc.model_identifier
-            );
-            if took > slowest.0 {
-                slowest = (took, format!("{}: {what}", sc.model_identifier));
-            }
-            assert!(
-                matches!(
-                    status,
-                    Status::Ok | Status::Warning | Status::Discard | Status::Error
-                ),
-                "{}: {what} returned {status:?}",
-                sc.model_identifier
-            );
-            by_status[match status {
-                Status::Ok => 0,
-                Status::Warning => 1,
-                Status::Discard => 2,
-                _ => 3,
-            }] += 1;
             let after = inst.get_real(&vrs);
-            if let Ok(values) = &after {
-                if let Some(k) = values.iter().position(|x| !x.is_finite()) {
-                    panic!(
-                        "{}: after {what}, vr {} = {} with fmi2OK",
-                        sc.model_identifier, vrs[k], values[k]
-                    );
-                }
-            }
-            let refused = matches!(status, Status::Error | Status::Discard);
-            let values_change = matches!(op, 12 | 14 | 15);
-            if refused && !values_change {
-                if let (Some(b), Ok(a)) = (&before, &after) {
-                    assert_eq!(
-                        bits(b),
-                        bits(a),
-                        "{}: {what} was refused but changed values",
-                        sc.model_identifier
-                    );
-                }
-            }
+            oracle.check(
+                sc,
+                &what,
+                (
+                    status,
+                    &[Status::Ok, Status::Warning, Status::Discard, Status::Error],
+                ),
+                started.elapsed(),
+                (&vrs, &before, &after),
+                matches!(op, 12 | 14 | 15),
+            );
             if status == Status::Error {
                 // The standard's way out of an error.
                 let s = inst.reset();
@@ -326,10 +353,7 @@ fn c_api_call_sequences_keep_the_invariants() {
             inst.free_state(st);
         }
     }
-    println!(
-        "{calls} calls (seed {seed}): {} OK, {} warning, {} discard, {} error; slowest {:?} ({})",
-        by_status[0], by_status[1], by_status[2], by_status[3], slowest.0, slowest.1
-    );
+    println!("{calls} calls (seed {seed}): {}", oracle.summary());
 }
 
 /// The same campaign on the FMI 3.0 functions of the same library: random sequences of
@@ -345,7 +369,8 @@ fn fmi3_call_sequences_keep_the_invariants() {
         .map(|f| (load3(f, &format!("fuzz3-{f}")), scene(f)))
         .collect();
     let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 3 | 1);
-    let (mut calls, mut by_status) = (0u64, [0u64; 4]);
+    let mut calls = 0u64;
+    let mut oracle = Oracle::default();
     while calls < budget {
         let (fmu, sc) = &fmus[rng.below(fmus.len())];
         let vrs = all_vrs(sc);
@@ -442,40 +467,18 @@ fn fmi3_call_sequences_keep_the_invariants() {
                     "get".into(),
                 ),
             };
-            let took = started.elapsed();
-            assert!(
-                took < CALL_BOUND,
-                "{}: {what} took {took:?}",
-                sc.model_identifier
-            );
-            assert!(
-                matches!(
-                    status,
-                    Status::Ok | Status::Warning | Status::Discard | Status::Error
-                ),
-                "{}: {what} returned {status:?}",
-                sc.model_identifier
-            );
-            by_status[(status as usize).min(3)] += 1;
             let after = inst.get_f64(&vrs);
-            if let Ok(values) = &after {
-                assert!(
-                    values.iter().all(|x| x.is_finite()),
-                    "{}: after {what}, a non-finite value with fmi3OK",
-                    sc.model_identifier
-                );
-            }
-            let refused = matches!(status, Status::Error | Status::Discard);
-            if refused && !matches!(op, 5 | 6 | 8) {
-                if let (Some(b), Ok(a)) = (&before, &after) {
-                    assert_eq!(
-                        bits(b),
-                        bits(a),
-                        "{}: {what} was refused but changed values",
-                        sc.model_identifier
-                    );
-                }
-            }
+            oracle.check(
+                sc,
+                &what,
+                (
+                    status,
+                    &[Status::Ok, Status::Warning, Status::Discard, Status::Error],
+                ),
+                started.elapsed(),
+                (&vrs, &before, &after),
+                matches!(op, 5 | 6 | 8),
+            );
             if status == Status::Error {
                 let s = inst.reset();
                 assert_eq!(
@@ -495,10 +498,7 @@ fn fmi3_call_sequences_keep_the_invariants() {
             inst.free_state(st);
         }
     }
-    println!(
-        "FMI 3.0: {calls} calls (seed {seed}): {} OK, {} warning, {} discard, {} error",
-        by_status[0], by_status[1], by_status[2], by_status[3]
-    );
+    println!("FMI 3.0: {calls} calls (seed {seed}): {}", oracle.summary());
 }
 
 #[test]
@@ -582,8 +582,7 @@ fn model_exchange_call_sequences_keep_the_invariants() {
         .collect();
     let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 3);
     let mut calls = 0u64;
-    let mut slowest = (Duration::ZERO, String::new());
-    let mut by_status = [0u64; 4];
+    let mut oracle = Oracle::default();
     while calls < budget {
         let (fmu, sc) = &fmus[rng.below(fmus.len())];
         let vrs = all_vrs(sc);
@@ -770,46 +769,15 @@ fn model_exchange_call_sequences_keep_the_invariants() {
                     "get".into(),
                 ),
             };
-            let took = started.elapsed();
-            assert!(
-                took < CALL_BOUND,
-                "{}: {what} took {took:?}",
-                sc.model_identifier
-            );
-            if took > slowest.0 {
-                slowest = (took, format!("{}: {what}", sc.model_identifier));
-            }
-            assert!(
-                matches!(status, Status::Ok | Status::Warning | Status::Error),
-                "{}: {what} returned {status:?}",
-                sc.model_identifier
-            );
-            by_status[match status {
-                Status::Ok => 0,
-                Status::Warning => 1,
-                Status::Discard => 2,
-                _ => 3,
-            }] += 1;
             let after = inst.get_real(&vrs);
-            if let Ok(values) = &after {
-                if let Some(k) = values.iter().position(|x| !x.is_finite()) {
-                    panic!(
-                        "{}: after {what}, vr {} = {} with fmi2OK",
-                        sc.model_identifier, vrs[k], values[k]
-                    );
-                }
-            }
-            let values_change = matches!(op, 12 | 14 | 15);
-            if status == Status::Error && !values_change {
-                if let (Some(b), Ok(a)) = (&before, &after) {
-                    assert_eq!(
-                        bits(b),
-                        bits(a),
-                        "{}: {what} was refused but changed values",
-                        sc.model_identifier
-                    );
-                }
-            }
+            oracle.check(
+                sc,
+                &what,
+                (status, &[Status::Ok, Status::Warning, Status::Error]),
+                started.elapsed(),
+                (&vrs, &before, &after),
+                matches!(op, 12 | 14 | 15),
+            );
             if status == Status::Error {
                 let s = inst.reset();
                 assert_eq!(
@@ -830,7 +798,7 @@ fn model_exchange_call_sequences_keep_the_invariants() {
         }
     }
     println!(
-        "Model Exchange: {calls} calls (seed {seed}): {} OK, {} warning, {} discard, {} error; slowest {:?} ({})",
-        by_status[0], by_status[1], by_status[2], by_status[3], slowest.0, slowest.1
+        "Model Exchange: {calls} calls (seed {seed}): {}",
+        oracle.summary()
     );
 }
