@@ -127,19 +127,42 @@ fn reference_rows_agree_with_the_reader() {
 #[test]
 fn fmu_pages_carry_the_picture_usage_and_platform() {
     for (file, s) in standard_scenes() {
-        let html = docs::index_html_for(
-            &s,
-            &docs::Binary {
-                platform: "linux64",
-                glibc: Some("2.17".into()),
-                libraries: vec!["libc.so.6".into(), "libm.so.6".into()],
-            },
-        );
+        let linux = docs::Binary {
+            folders: vec!["linux64"],
+            file_ext: "so",
+            os: "x86-64 Linux",
+            requirement: "glibc 2.17 or newer".into(),
+            libraries: vec!["libc.so.6".into(), "libm.so.6".into()],
+        };
+        let windows = docs::Binary {
+            folders: vec!["win64"],
+            file_ext: "dll",
+            os: "64-bit Windows (x86-64)",
+            requirement: "Windows 10 or later".into(),
+            libraries: vec!["KERNEL32.dll".into()],
+        };
+        let html = docs::index_html_for(&s, &[linux.clone(), windows]);
         assert!(html.contains(SIGN_CONVENTION_SVG), "{file}");
         assert!(html.contains("output_interval=1e-3"), "{file}");
         assert!(html.contains("glibc 2.17 or newer"), "{file}");
         assert!(
             html.contains("It links only <code>libc.so.6</code>, <code>libm.so.6</code>:"),
+            "{file}"
+        );
+        let id = &s.model_identifier;
+        assert!(
+            html.contains(&format!(
+                "<code>binaries/win64/{id}.dll</code>: 64-bit Windows"
+            )),
+            "{file}"
+        );
+        assert!(
+            html.contains("Not in this FMU: <code>darwin64</code>."),
+            "{file}"
+        );
+        let linux_only = docs::index_html_for(&s, &[linux]);
+        assert!(
+            linux_only.contains("Not in this FMU: <code>win64</code>, <code>darwin64</code>."),
             "{file}"
         );
         assert!(html.contains("<code>T_avg</code>"), "{file}");
