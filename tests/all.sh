@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The one test command: checks the toolchain, makes the Python environment, builds, exports dist/
-# (for glibc 2.17, with the exporter's self-check), runs the Rust tests, then the fmpy tests in
-# tests/python against dist/. Each step says what it does; the first run on a fresh clone takes
-# about 23 minutes on 2 cores (fmi-sim's build a third of it), later runs about 6.
+# The one test command: checks the toolchain, makes the Python environment, installs the cross
+# toolchains (tests/cross/setup.sh), builds, exports dist/ for Linux (glibc 2.17), Windows and
+# macOS with the exporter's self-check, runs the Rust tests, the Windows tests under Wine
+# (tests/cross/test.sh), then the fmpy tests in tests/python against dist/. Each step says what it
+# does and when it started.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -10,7 +11,7 @@ step_no=0
 step() {
     step_no=$((step_no + 1))
     echo
-    echo "==> [$step_no/7] $* (at $((SECONDS / 60))m$((SECONDS % 60))s)"
+    echo "==> [$step_no/9] $* (at $((SECONDS / 60))m$((SECONDS % 60))s)"
 }
 
 # Rust: cargo must be at least Cargo.toml's rust-version (Debian's cargo 1.63 is not).
@@ -45,14 +46,16 @@ else
     echo "up to date (pins unchanged)"
 fi
 
-# fmi-sim, the partner importer from crates.io, pinned; built once into target/partners (its
-# build needs libclang, which .ci/run installs). tests/python/test_partners.py finds it by FMI_SIM.
+# fmi-sim, the partner importer from crates.io, pinned; built once per machine into
+# ~/.cache/vibrofric (VIBROFRIC_CACHE), outside the clone, so that every clone on the machine
+# shares it (its build needs libclang, which .ci/run installs). tests/python/test_partners.py
+# finds it by FMI_SIM.
 FMI_SIM_VERSION=0.7.0
-fmi_sim_root="${CARGO_TARGET_DIR:-target}/partners/fmi-sim-$FMI_SIM_VERSION"
+fmi_sim_root="${VIBROFRIC_CACHE:-$HOME/.cache/vibrofric}/fmi-sim-$FMI_SIM_VERSION"
 case "$fmi_sim_root" in /*) ;; *) fmi_sim_root="$PWD/$fmi_sim_root" ;; esac
 step "fmi-sim $FMI_SIM_VERSION, a partner FMI importer for tests/python/test_partners.py"
 if [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
-    echo "building it from crates.io into $fmi_sim_root: done once, about 10 minutes on 2 cores"
+    echo "building it from crates.io into $fmi_sim_root: done once per machine, 7-20 minutes on 2 cores"
     echo "(about 200 crates; cargo's progress below, one numbered line per crate compiled)"
     # A shell loop, not awk: Debian's awk (mawk) reads a pipe in blocks and would hold the lines.
     cargo install fmi-sim --version "=$FMI_SIM_VERSION" --locked --root "$fmi_sim_root" 2>&1 |
@@ -71,16 +74,23 @@ else
 fi
 export FMI_SIM="$fmi_sim_root/bin/fmi-sim"
 
+step "cross toolchains for the Windows and macOS libraries (tests/cross/setup.sh)"
+bash tests/cross/setup.sh
+
 step "cargo build --release (FMU library, importer, exporter, examples)"
 cargo build --release --workspace --lib --bins --examples
 
-# VIBROFRIC_PORTABLE=1: the exporter must build the shipped library for glibc 2.17 with the
-# cargo-zigbuild of .venv (docs/platforms.md), so the tests below check portable binaries.
-step "cargo run --release: export dist/*.fmu for glibc 2.17 (cargo-zigbuild) and self-check"
-VIBROFRIC_PORTABLE=1 cargo run --release
+# VIBROFRIC_PORTABLE=1 and --platforms all: the exporter must build the Linux library for
+# glibc 2.17, the Windows and the macOS ones (docs/platforms.md), so the tests below check the
+# binaries users get. The first time, each platform's build takes about as long as the host's.
+step "export dist/*.fmu for linux64 (glibc 2.17), win64 and darwin64, and self-check"
+VIBROFRIC_PORTABLE=1 cargo run --release -- export --platforms all --check
 
 step "cargo test --release"
 cargo test --release
+
+step "the Windows library under Wine (tests/cross/test.sh)"
+bash tests/cross/test.sh dist
 
 step "fmpy tests (tests/python)"
 .venv/bin/python -m pytest tests/python -q -rA -p no:cacheprovider

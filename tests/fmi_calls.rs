@@ -442,17 +442,33 @@ fn every_local_resource_location_is_accepted() {
     unpack(&dir, &scene_text("contact.toml"));
     let fmu = vibrofric_import::Fmu::load(&dir).unwrap();
     let res = dir.join("resources");
-    let p = res.display().to_string();
+    // The folder as a URI path: /tmp/x/resources on Unix, /C:/users/x/resources on Windows.
+    let p = res.display().to_string().replace('\\', "/");
+    let p = if p.starts_with('/') {
+        p
+    } else {
+        format!("/{p}")
+    };
     let enc = p.replace('%', "%25").replace(' ', "%20");
-    for uri in [
+    let mut uris = vec![
         format!("file://{enc}/"),
         format!("file://{enc}"),
         format!("file:{enc}/"),
         format!("file://localhost{enc}/"),
-        format!("file:///{enc}/"),
-        format!("file:///{enc}"),
         fmu.resource_uri(),
-    ] {
+    ];
+    if cfg!(windows) {
+        // A drive letter: percent-encoded, in its old `C|` spelling, and straight after file:.
+        let colon = enc.replacen(':', "%3A", 1);
+        uris.push(format!("file://{colon}/"));
+        uris.push(format!("file://{}/", enc.replacen(':', "|", 1)));
+        uris.push(format!("file:{}/", &enc[1..]));
+    } else {
+        // An empty authority followed by a doubled slash (file:////tmp/x/).
+        uris.push(format!("file:///{enc}/"));
+        uris.push(format!("file:///{enc}"));
+    }
+    for uri in uris {
         let (i, log) =
             fmu.instantiate_with("res", 1, Some(&fmu.description.guid), Some(&uri), false);
         assert!(i.is_some(), "{uri}: {log:?}");
@@ -465,7 +481,7 @@ fn instantiate_refuses_bad_arguments_with_a_log_line() {
     let guid = fmu.description.guid.clone();
     let res = fmu.resource_uri();
     let empty = temp("refuse-empty");
-    let empty_uri = format!("file://{}/", empty.display());
+    let empty_uri = vibrofric_import::file_uri(&empty) + "/";
     // (what, fmuType, fmuGUID, fmuResourceLocation, words of the log line)
     type Case<'a> = (&'a str, i32, Option<&'a str>, Option<&'a str>, Vec<&'a str>);
     let cases: Vec<Case> = vec![
@@ -548,7 +564,7 @@ fn instantiate_refuses_bad_arguments_with_a_log_line() {
         "bad",
         1,
         Some(&guid),
-        Some(&format!("file://{}", bad.display())),
+        Some(&vibrofric_import::file_uri(&bad)),
         false,
     );
     assert!(i.is_none());

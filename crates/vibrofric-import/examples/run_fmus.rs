@@ -1,0 +1,120 @@
+//! Co-simulates every FMU of a folder (FMI 2.0 `*.fmu` and FMI 3.0 `fmi3/*.fmu`) with the
+//! platform's own library inside it, and prints every output at every communication point as
+//! the bits of its `f64`: the same program built for Linux and for Windows (run under Wine) must
+//! print the same text (`tests/cross/test.sh` compares them).
+//!
+//! `cargo run --release -p vibrofric-import --example run_fmus -- dist`
+//!
+//! Each FMU runs its default experiment from its scene's start values (0.1 s, communication step
+//! 1 ms), twice: the second time with 0.37 ms steps and, where the FMU has them, the inputs `F_d`
+//! and `v_sx` set to other values than their start values.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use vibrofric_import::fmi3::Fmu3;
+use vibrofric_import::Fmu;
+
+/// The outputs compared, where an FMU has them.
+const OUTPUTS: [&str; 14] = [
+    "F_Fx",
+    "F_Fy",
+    "x",
+    "y",
+    "v_x",
+    "v_y",
+    "s_x",
+    "s_y",
+    "F_mean",
+    "reduction",
+    "P_diss",
+    "F_Fx_step",
+    "F_Fy_step",
+    "F_d",
+];
+
+fn fmus(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "fmu"))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
+/// Whether the model description declares `name` with causality "input" (`F_d` is an output
+/// under a spring drive).
+fn is_input(xml: &str, name: &str) -> bool {
+    let key = format!("name=\"{name}\"");
+    xml.match_indices(&key).any(|(at, _)| {
+        let start = xml[..at].rfind('<').unwrap_or(0);
+        let end = xml[at..].find('>').map_or(xml.len(), |e| at + e);
+        xml[start..end].contains("causality=\"input\"")
+    })
+}
+
+fn print_rows(label: &str, rows: &[Vec<f64>]) {
+    for row in rows {
+        let bits: Vec<String> = row
+            .iter()
+            .map(|v| format!("{:016x}", v.to_bits()))
+            .collect();
+        println!("{label} {}", bits.join(" "));
+    }
+}
+
+fn run(dir: &Path) -> Result<usize, String> {
+    let mut n = 0;
+    for path in fmus(dir)? {
+        let fmu = Fmu::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let d = &fmu.description;
+        let outputs: Vec<u32> = OUTPUTS.iter().filter_map(|o| d.vr(o)).collect();
+        let xml = std::fs::read_to_string(fmu.dir.join("modelDescription.xml"))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let inputs: Vec<(u32, f64)> = [("F_d", 7.5), ("v_sx", 1e-3)]
+            .iter()
+            .filter(|(name, _)| is_input(&xml, name))
+            .filter_map(|(name, v)| d.vr(name).map(|vr| (vr, *v)))
+            .collect();
+        let id = d.model_identifier.clone();
+        for (step, set) in [(1e-3, &[][..]), (3.7e-4, &inputs[..])] {
+            let rows = fmu
+                .simulate(0.1, step, set, &outputs)
+                .map_err(|e| format!("{id} (FMI 2.0): {e}"))?;
+            print_rows(&format!("{id} fmi2 h={step}"), &rows);
+        }
+        let path3 = dir.join("fmi3").join(path.file_name().unwrap_or_default());
+        if path3.is_file() {
+            let fmu3 = Fmu3::load(&path3).map_err(|e| format!("{}: {e}", path3.display()))?;
+            let rows = fmu3
+                .simulate(0.1, 1e-3, &[], &outputs)
+                .map_err(|e| format!("{id} (FMI 3.0): {e}"))?;
+            print_rows(&format!("{id} fmi3 h=0.001"), &rows);
+        }
+        eprintln!("{id}: {} outputs co-simulated", outputs.len());
+        n += 1;
+    }
+    Ok(n)
+}
+
+fn main() -> ExitCode {
+    let dir = std::env::args().nth(1).unwrap_or_else(|| "dist".into());
+    match run(Path::new(&dir)) {
+        Ok(0) => {
+            eprintln!("run_fmus: no *.fmu in {dir}");
+            ExitCode::FAILURE
+        }
+        Ok(n) => {
+            eprintln!(
+                "run_fmus: {n} FMUs co-simulated on {}",
+                std::env::consts::OS
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("run_fmus: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
