@@ -72,6 +72,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let tol = self.radau.tolerance();
         let rtol = (TOL_FRACTION * tol).max(1e-14);
         let band = 0.05 * tol * len * (k_t * inv_m).sqrt();
+        let band = if band.is_finite() { band } else { 0.0 };
         let (nom_s, nom_x, nom_v) = (self.scale[0], self.scale[ix], self.scale[iv]);
         let dynamics = self.dynamics;
         let input_support = self.config.input_support;
@@ -212,9 +213,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     let te = t + theta * hh;
                     fsal = Some(k1);
                     if te <= t {
-                        // The reversal is at the step's start: the other branch from here.
+                        // The reversal is at the step's start: the other branch from here. The
+                        // attempt counts as rejected, so the work limit bounds any repetition.
                         sigma = -sigma;
                         stats.events += 1;
+                        stats.rejected += 1;
                         continue;
                     }
                     if theta < 1.0 {
