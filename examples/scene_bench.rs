@@ -1,6 +1,9 @@
 //! Run time per simulated vibration period of every standard scene, and of pairs of
 //! configurations that differ in one choice only, to show what leaving things out saves.
 //! Single thread; the median of repeated runs of 0.1 s (200 periods at 2 kHz) at tolerance 1e-6.
+//! Then, for the scenes whose body moves: the largest `F_Fx` error at the communication points
+//! against a tolerance-1e-10 run, and the cost at `k_t` = 1e12 against 1e8; and the default
+//! contact (VibratingContact) over 1 s at tolerances 1e-4 … 1e-10 against a 1e-12 run.
 //!
 //! cargo run --release --example scene_bench
 
@@ -24,26 +27,52 @@ const NOMINAL_PERIOD: f64 = 5e-4;
 
 /// Median wall time of a run to `T_END` with communication step 1e-3 s, and its work counters.
 fn time_run(config: Config, params: Params, inputs: Inputs) -> (f64, StepStats, SolverPath) {
-    let mut times = Vec::with_capacity(RUNS);
+    let (t, stats, path, _) = timed(config, params, inputs, 1e-6, T_END, RUNS);
+    (t, stats, path)
+}
+
+/// Median wall time of `runs` runs to `t_end` at tolerance `tol` in communication steps of
+/// 1 ms, the work counters, the path and `F_Fx` at every communication point.
+fn timed(
+    config: Config,
+    params: Params,
+    inputs: Inputs,
+    tol: f64,
+    t_end: f64,
+    runs: usize,
+) -> (f64, StepStats, SolverPath, Vec<f64>) {
+    let mut times = Vec::with_capacity(runs);
     let mut stats = StepStats::default();
     let mut path = SolverPath::Radau;
-    for _ in 0..RUNS {
+    let mut f_fx = vec![];
+    let n = (t_end / 1e-3).round() as usize;
+    for _ in 0..runs {
+        f_fx.clear();
         let start = Instant::now();
-        let mut sim = build(config, params, 0.0, 1e-6).unwrap();
+        let mut sim = build(config, params, 0.0, tol).unwrap();
         for id in InputId::ALL {
             if id.present(&config) {
                 sim.set_input(id, id.get(&inputs)).unwrap();
             }
         }
-        for k in 1..=100 {
+        for k in 1..=n {
             sim.step_to(k as f64 * 1e-3).unwrap();
+            f_fx.push(sim.outputs().f_fx);
         }
         times.push(start.elapsed().as_secs_f64());
         stats = sim.stats();
         path = sim.path();
     }
     times.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    (times[RUNS / 2], stats, path)
+    (times[runs / 2], stats, path, f_fx)
+}
+
+/// The largest difference of two series, relative to `scale`.
+fn max_err(a: &[f64], b: &[f64], scale: f64) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs() / scale)
+        .fold(0.0, f64::max)
 }
 
 fn row(name: &str, config: Config, params: Params, inputs: Inputs) -> f64 {
@@ -80,6 +109,48 @@ fn main() {
             scene.config,
             scene.start,
             scene.inputs,
+        );
+    }
+
+    println!("\nScenes whose body moves (tolerance 1e-6, 0.1 s): F_Fx error against a tolerance-1e-10 run on the same path, and the cost at k_t = 1e12 against 1e8\n");
+    println!("| scene | path | µs per period | steps per period | max F_Fx error / F_C | µs per period at k_t 1e12 | 1e12 / 1e8 |");
+    println!("|---|---|---|---|---|---|---|");
+    for p in &paths {
+        let scene = Scene::load(Path::new(p)).unwrap();
+        if scene.config.drive == Drive::Velocity {
+            continue;
+        }
+        let (c, start, inputs) = (scene.config, scene.start, scene.inputs);
+        let periods = T_END * start.f;
+        let (t, st, path, f) = timed(c, start, inputs, 1e-6, T_END, RUNS);
+        let (_, _, _, reference) = timed(c, start, inputs, 1e-10, T_END, 1);
+        let stiff = Params { k_t: 1e12, ..start };
+        let (t12, _, _, _) = timed(c, stiff, inputs, 1e-6, T_END, RUNS);
+        println!(
+            "| {} | {path:?} | {:.2} | {:.1} | {:.1e} | {:.2} | {:.2} |",
+            scene.model_identifier,
+            t / periods * 1e6,
+            st.steps as f64 / periods,
+            max_err(&f, &reference, start.f_c()),
+            t12 / periods * 1e6,
+            t12 / t
+        );
+    }
+
+    println!("\nVibratingContact, 1 s at 2 kHz, F_Fx at every 1 ms against tolerance 1e-12 (explicit path) or Radau at its tolerance\n");
+    println!("| path | tolerance | µs per period | steps per period | max F_Fx error / F_C |");
+    println!("|---|---|---|---|---|");
+    let scene = Scene::load(Path::new("scenes/contact.toml")).unwrap();
+    let (c, start, inputs) = (scene.config, scene.start, scene.inputs);
+    let (_, _, _, reference) = timed(c, start, inputs, 1e-12, 1.0, 1);
+    let periods = start.f;
+    for tol in [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-10] {
+        let (t, st, path, f) = timed(c, start, inputs, tol, 1.0, 3);
+        println!(
+            "| {path:?} | {tol:.0e} | {:.2} | {:.1} | {:.1e} |",
+            t / periods * 1e6,
+            st.steps as f64 / periods,
+            max_err(&f, &reference, start.f_c())
         );
     }
 

@@ -479,6 +479,14 @@ fn snapshot_restore_continues_bit_for_bit_in_a_fresh_simulator() {
         longitudinal_velocity(Law::Dupont),
         config(Law::LuGre, Motion::Planar, Drive::Force, Lateral::Guided),
         transverse_velocity(Lateral::Free),
+        // The explicit path (its branch and step are saved), longitudinal and planar.
+        config(
+            Law::Dahl,
+            Motion::Longitudinal,
+            Drive::Spring,
+            Lateral::Guided,
+        ),
+        config(Law::Dahl, Motion::Planar, Drive::Force, Lateral::Guided),
     ] {
         let p = Params::default();
         let mut a = build(c, p, 0.0, 1e-6).unwrap();

@@ -204,7 +204,7 @@ fn crafted_states_are_refused_field_by_field() {
     let s = a.get_state().unwrap();
     let bytes = a.serialize_state(&s).unwrap();
     type Edit = fn(&mut ContactState);
-    let cases: [(Edit, &str); 7] = [
+    let cases: [(Edit, &str); 8] = [
         (|s| s.params.f = 1e12, "parameter f = 1e12"),
         (
             |s| s.window.acc = f64::NEG_INFINITY,
@@ -221,6 +221,10 @@ fn crafted_states_are_refused_field_by_field() {
             "harmonic phase reference = 7",
         ),
         (|s| s.config.law = Law::LuGre, "taken from another scene"),
+        (
+            |s| s.direction = 0.5,
+            "branch of the explicit path 0.5: must be -1, 0 or 1",
+        ),
     ];
     let mut b = started(&fmu, "b", &[]);
     ok!(b, b.do_step(0.0, H));

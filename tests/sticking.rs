@@ -158,3 +158,99 @@ fn lugre_stick_slip_through_a_soft_spring_at_every_communication_step() {
     assert!(x_end > 0.02, "the body followed the spring: x = {x_end}");
     assert_coarse_agree(&runs, x_end, 2e-3, p.f_c());
 }
+
+/// The explicit path (a body on a Dahl contact, no damping in the contact): held at 5 N from
+/// rest, pushed with 20 N, held again, at every communication step, against Radau at 1e-10.
+/// While stuck the body oscillates on the contact's stiffness (Dahl has no viscous term; only
+/// the hysteresis damps it), so the force balance holds to the oscillation's amplitude.
+#[test]
+fn dahl_body_on_the_explicit_path_held_released_held_at_every_communication_step() {
+    use vibrofric::model::{build_on, Path as SolverPath};
+    let config = Config {
+        law: Law::Dahl,
+        motion: Motion::Longitudinal,
+        drive: Drive::Force,
+        lateral: Lateral::Guided,
+        harmonic: false,
+        input_support: true,
+        normal_input: false,
+    };
+    let p = Params::default();
+    let f_d = |t: f64| match t {
+        t if t < 0.5 - 1e-9 => 5.0,
+        t if t < 1.0 - 1e-9 => 20.0,
+        _ => 5.0,
+    };
+    let inputs = |t: f64| vec![(InputId::FD, f_d(t))];
+    assert_eq!(
+        build(config, p, 0.0, TOL).unwrap().path(),
+        SolverPath::Explicit
+    );
+    let runs: Vec<_> = STEPS
+        .iter()
+        .map(|&dt| run(config, p, dt, 3.0, &inputs))
+        .collect();
+    let fine = &runs[0];
+    let f_c = p.f_c();
+    // Stuck from rest: the friction holds the drive up to the contact oscillation.
+    assert!(fine[0].v_x.abs() < 1e-5, "v_x = {}", fine[0].v_x);
+    assert!(
+        (fine[0].f_fx - 5.0).abs() < 0.01 * f_c,
+        "F_Fx = {}",
+        fine[0].f_fx
+    );
+    // Sliding: the Dahl force is F_C exactly, so the body gains (F_d − F_C)/m · 0.5 s.
+    let gain = (20.0 - f_c) / p.m * 0.5;
+    assert!(
+        (fine[1].v_x - gain).abs() < 1e-3 * gain,
+        "v_x {}",
+        fine[1].v_x
+    );
+    // Stuck again after decelerating at (F_C − 5)/m.
+    for o in &fine[4..] {
+        assert!(o.v_x.abs() < 1e-5, "v_x = {}", o.v_x);
+        assert!((o.f_fx - 5.0).abs() < 0.01 * f_c, "F_Fx = {}", o.f_fx);
+    }
+    // Every communication step gives the same motion. The phase of the undamped stuck
+    // oscillation (about 670 Hz) drifts by the tolerance per cycle, so the force sampled at an
+    // instant is compared to the oscillation's amplitude only.
+    for (r, dt) in runs.iter().zip(STEPS).skip(1) {
+        for (k, (a, b)) in r.iter().zip(fine).enumerate() {
+            let t = 0.5 * (k + 1) as f64;
+            assert!(
+                (a.x - b.x).abs() <= 10.0 * TOL * fine[5].x,
+                "dt {dt}, t {t}: x {} vs {}",
+                a.x,
+                b.x
+            );
+            assert!(
+                (a.v_x - b.v_x).abs() <= 10.0 * TOL * fine[1].v_x,
+                "dt {dt}, t {t}: v_x {} vs {}",
+                a.v_x,
+                b.v_x
+            );
+            assert!(
+                (a.f_fx - b.f_fx).abs() <= 0.01 * f_c,
+                "dt {dt}, t {t}: F_Fx"
+            );
+        }
+    }
+    // The same run on Radau at a tight tolerance.
+    let mut radau = build_on(config, p, 0.0, 1e-10, SolverPath::Radau).unwrap();
+    let mut reference = vec![];
+    for k in 0..6 {
+        radau.set_input(InputId::FD, f_d(k as f64 * 0.5)).unwrap();
+        radau.step_to((k + 1) as f64 * 0.5).unwrap();
+        reference.push(radau.outputs());
+    }
+    for (k, (a, b)) in fine.iter().zip(&reference).enumerate() {
+        assert!(
+            // While stuck, up to the oscillation's amplitude (1 % of F_C on the stiffness).
+            (a.x - b.x).abs() <= 10.0 * TOL * b.x.abs() + 0.01 * f_c / p.k_t,
+            "t {}: x {} vs Radau {}",
+            0.5 * (k + 1) as f64,
+            a.x,
+            b.x
+        );
+    }
+}

@@ -41,8 +41,11 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     pub(super) radau: Radau5<N>,
     /// Radau even where the closed form applies (tests and benchmarks of the fast path).
     pub(super) radau_only: bool,
-    /// The exponential integrator's proposed step (0: none yet).
+    /// The exponential or explicit integrator's proposed step (0: none yet).
     pub(super) exp_h: f64,
+    /// The explicit path's branch: the sign of `v_r` since its last located change (0: not
+    /// yet known).
+    pub(super) direction: f64,
     /// The integrator's scratch matrices, kept across communication steps.
     pub(super) work: Workspace,
     pub(super) window: Window,
@@ -115,6 +118,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             radau: Radau5::new(t_start, SVector::zeros(), tolerance),
             radau_only: false,
             exp_h: 0.0,
+            direction: 0.0,
             work: Workspace::new(N),
             window: Window {
                 origin: t_start,
@@ -368,8 +372,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     /// Integrates to `t_target` (≤ the current window's end), accumulating `∫F_F dt` in the
     /// window and the communication step.
     fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
-        if self.exact_path().is_some() || self.exp_path() {
-            let integral = self.advance_window(t_target, h_max)?.1;
+        let fast = self.exact_path().is_some() || self.exp_path();
+        if fast || self.explicit_path() {
+            let integral = if fast {
+                self.advance_window(t_target, h_max)?.1
+            } else {
+                self.advance_explicit(t_target, h_max)?
+            };
             self.window.acc += integral[0];
             self.step.acc[0] += integral[0];
             self.step.acc[1] += integral[1];
@@ -546,7 +555,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let saved = (
             self.radau,
             self.window,
-            self.exp_h,
+            (self.exp_h, self.direction),
             self.step,
             self.dynamics.lifted,
         );
@@ -629,7 +638,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             (
                 self.radau,
                 self.window,
-                self.exp_h,
+                (self.exp_h, self.direction),
                 self.step,
                 self.dynamics.lifted,
             ) = saved;
@@ -743,6 +752,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             Path::ClosedForm
         } else if self.exp_path() {
             Path::Exponential
+        } else if self.explicit_path() {
+            Path::Explicit
         } else {
             Path::Radau
         }

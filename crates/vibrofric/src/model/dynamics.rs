@@ -234,6 +234,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Relaxing for Relaxation1<'_, V,
     }
 }
 
+/// How many of the quadrature's integrands (`F_Fx`, `F_Fy`) steer Radau's step size.
+pub(super) const QUAD_STEERS: usize = 1;
+
 /// Number of support velocities a [`System`] remembers: the integrator evaluates the right-hand
 /// side, its Jacobian, the switching functions and the quadrature at the same three stage times.
 pub(super) const SUPPORT_CACHE: usize = 4;
@@ -374,6 +377,12 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
 
     fn quadrature_scale(&self) -> f64 {
         self.force_scale
+    }
+
+    /// `∫F_Fx dt` (the window's `F_mean`) steers the step as it did before the step means;
+    /// `∫F_Fy dt` (only the step mean `F_Fy_step` reads it) is integrated alongside.
+    fn quadrature_steers(&self) -> usize {
+        QUAD_STEERS
     }
 
     fn switch_scale(&self) -> [f64; MAX_SWITCH] {

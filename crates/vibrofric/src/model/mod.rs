@@ -14,6 +14,7 @@
 //! - `window.rs`: the running means (`F_mean` over averaging windows, the step means);
 //! - `time.rs`: communication points as importers compute them, and time limits;
 //! - `exact.rs`: the closed-form path (longitudinal Dahl under velocity drive);
+//! - `explicit.rs`: the explicit path (a body on a Dahl contact, moving along x);
 //! - `ode.rs`: the equations as a plain ODE for other integrators;
 //! - `exchange.rs`: the contact for an importer's integrator (Model Exchange): states,
 //!   derivatives, event indicators and updates, directional derivatives.
@@ -23,6 +24,7 @@ mod drive;
 mod dynamics;
 mod exact;
 mod exchange;
+mod explicit;
 mod ode;
 mod simulator;
 mod snapshot;

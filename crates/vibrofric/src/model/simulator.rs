@@ -151,6 +151,11 @@ pub enum Path {
     /// of the same cost at any contact stiffness (velocity drives with the lateral motion
     /// guided and a law linear in `s`: planar Dahl, LuGre).
     Exponential,
+    /// A moving body (force or spring drive) on a Dahl contact with `kappa = 1`, motion along
+    /// x: the deformation in closed form in the relative displacement between sign changes of
+    /// `v_r`, the body by Dormand–Prince 5(4) with error control, each step cut at a located
+    /// sign change. Planar contacts take it while they move on x only.
+    Explicit,
     /// Radau IIA of order 5 on the whole state: every other contact, and the reference the
     /// fast paths are tested against.
     Radau,

@@ -38,6 +38,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             },
             integrator,
             exp_h: self.exp_h,
+            direction: self.direction,
             step_mean: StepMeanState {
                 last: self.step.last,
                 h: self.step.h,
@@ -128,6 +129,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         if s.exp_h < 0.0 || s.step_mean.h < 0.0 {
             return bad("a step length is negative".into());
         }
+        if ![-1.0, 0.0, 1.0].contains(&s.direction) {
+            return bad(format!(
+                "branch of the explicit path {}: must be -1, 0 or 1",
+                s.direction
+            ));
+        }
         if (s.t_abs - s.epoch - radau.t).abs() > 1e-9 * s.t_abs.abs().max(1.0) {
             return bad(format!(
                 "time {} is not the start time {} plus the integrator's time {}",
@@ -151,6 +158,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         c.radau = radau;
         c.radau_only = self.radau_only;
         c.exp_h = s.exp_h;
+        c.direction = s.direction;
         c.step = StepMean {
             acc: [0.0; MAX_QUAD],
             last: s.step_mean.last,

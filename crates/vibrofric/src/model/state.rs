@@ -25,6 +25,8 @@ pub struct ContactState {
     pub integrator: Vec<f64>,
     /// The exponential integrator's proposed step (0: none yet).
     pub exp_h: f64,
+    /// The explicit path's branch, the sign of `v_r` (−1, +1; 0 before it is known).
+    pub direction: f64,
     pub step_mean: StepMeanState,
     /// The body has lifted off (normal force input below the lift-off load).
     pub lifted: bool,
@@ -79,6 +81,7 @@ impl ContactState {
             v.push((format!("integrator number {k}"), *x));
         }
         v.push(("exponential step".into(), self.exp_h));
+        v.push(("branch of the explicit path".into(), self.direction));
         let s = &self.step_mean;
         let last = s.last.unwrap_or([0.0; MAX_QUAD]);
         v.push(("last step mean of F_Fx".into(), last[0]));

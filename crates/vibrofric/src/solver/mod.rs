@@ -2,6 +2,8 @@
 //! - [`Radau5`]: an L-stable, stiffly accurate Radau IIA method of order 5 with error control,
 //!   dense output, located switching events and exact landing on requested times, for any
 //!   [`OdeSystem`];
+//! - [`dopri`]: one step of Dormand–Prince 5(4) with its error estimate and continuous
+//!   extension, for the smooth pieces of a moving body's motion;
 //! - [`expint`]: exponential integration of a deformation relaxing toward a moving target at a
 //!   scalar rate, explicit and of the same cost at any stiffness;
 //! - [`quadrature`]: adaptive Gauss–Kronrod 7/15, for integrals of closed-form solutions.
@@ -10,6 +12,7 @@
 // index loops say that more plainly than zipped iterators.
 #![allow(clippy::needless_range_loop)]
 
+pub mod dopri;
 pub mod expint;
 mod lu;
 pub mod quadrature;

@@ -55,7 +55,8 @@ pub trait OdeSystem<const N: usize> {
         (self.rhs(t, y), self.jacobian(t, y))
     }
     /// Up to [`MAX_QUAD`] integrands `q(t, y)` whose integrals over each step the integrator
-    /// returns in [`Step::quad`], with their errors bounded like the state's.
+    /// returns in [`Step::quad`]: the first [`OdeSystem::quadrature_steers`] with their errors
+    /// bounded like the state's, the others integrated alongside with the same formula.
     fn quadrature(&self, _t: f64, _y: &SVector<f64, N>) -> Quad {
         [0.0; MAX_QUAD]
     }
@@ -63,6 +64,13 @@ pub trait OdeSystem<const N: usize> {
     /// kept below `rtol·scale·h`. Zero: no quadrature.
     fn quadrature_scale(&self) -> f64 {
         0.0
+    }
+    /// How many of the integrands (the first ones) take part in the step-size control. The
+    /// others are integrated alongside by the same collocation formula, whose accuracy then
+    /// follows the state's, and cost no steps (an output nobody may read should not make the
+    /// state's integration more expensive).
+    fn quadrature_steers(&self) -> usize {
+        MAX_QUAD
     }
 }
 

@@ -31,6 +31,7 @@ impl<const N: usize> Radau5<N> {
         observed: &[([f64; MAX_SWITCH], Quad); 3],
         scal: &SVector<f64, N>,
         q_scale: f64,
+        q_steers: usize,
         reject: bool,
     ) -> (f64, Quad) {
         // Error estimate (Hairer & Wanner IV.8). Its filter `(U1/h − J)⁻¹` needs only an
@@ -63,6 +64,9 @@ impl<const N: usize> Radau5<N> {
                 let zq: [f64; 3] =
                     std::array::from_fn(|i| h * (A[i][0] * q[0] + A[i][1] * q[1] + A[i][2] * q[2]));
                 quad[k] = zq[2];
+                if k >= q_steers {
+                    continue;
+                }
                 let est_q = (h / U1) * (q0[k] + (DD1 * zq[0] + DD2 * zq[1] + DD3 * zq[2]) / h);
                 err = err.max(est_q.abs() / (self.rtol * q_scale * h));
             }

@@ -177,6 +177,7 @@ impl<const N: usize> Radau5<N> {
         let mut jac_start: Option<SMatrix<f64, N, N>> = None;
         let nominal = sys.scale();
         let q_scale = sys.quadrature_scale();
+        let q_steers = sys.quadrature_steers().min(MAX_QUAD);
         let n_switch = sys.n_switch().min(MAX_SWITCH);
         self.init_switch_signs(sys, n_switch);
         let mut f0 = sys.rhs(self.t, &self.y);
@@ -292,7 +293,7 @@ impl<const N: usize> Radau5<N> {
             }
 
             let (err, quad) = self.error_estimate(
-                sys, &setup, h, &z, &f0, &q0, &observed, &scal, q_scale, reject,
+                sys, &setup, h, &z, &f0, &q0, &observed, &scal, q_scale, q_steers, reject,
             );
             let quot = Self::step_quotient(err, newt);
             let mut h_new = h / quot;

@@ -1,0 +1,163 @@
+//! One step of Dormand–Prince 5(4) (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.5 and
+//! §II.6, code DOPRI5): an explicit Runge–Kutta pair of orders 5 and 4 with the first stage
+//! the last one of the previous step (FSAL), its error estimate and its continuous extension of
+//! order 4. The caller owns the loop (step size, events, landing), since it knows where the
+//! right-hand side is smooth; this file knows nothing of friction.
+
+// The coefficients are the published rationals.
+#![allow(clippy::excessive_precision)]
+
+/// Stage times.
+pub const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+const A: [[f64; 6]; 7] = [
+    [0.0; 6],
+    [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [
+        19372.0 / 6561.0,
+        -25360.0 / 2187.0,
+        64448.0 / 6561.0,
+        -212.0 / 729.0,
+        0.0,
+        0.0,
+    ],
+    [
+        9017.0 / 3168.0,
+        -355.0 / 33.0,
+        46732.0 / 5247.0,
+        49.0 / 176.0,
+        -5103.0 / 18656.0,
+        0.0,
+    ],
+    [
+        35.0 / 384.0,
+        0.0,
+        500.0 / 1113.0,
+        125.0 / 192.0,
+        -2187.0 / 6784.0,
+        11.0 / 84.0,
+    ],
+];
+/// The fifth-order weights minus the fourth-order ones.
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+/// The continuous extension's coefficients (DOPRI5's `contd5`).
+const D: [f64; 7] = [
+    -12715105075.0 / 11282082432.0,
+    0.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+];
+
+/// One attempted step of length `h` from `(t, y)` with `k1 = f(t, y)`.
+#[derive(Clone, Copy, Debug)]
+pub struct DoPriStep<const M: usize> {
+    /// The stage values `Y_i` (the last is the fifth-order solution at `t + h`).
+    pub stages: [[f64; M]; 7],
+    /// The stage derivatives `k_i = f(t + C_i·h, Y_i)`; `k[6]` is `f` at the new point.
+    pub k: [[f64; M]; 7],
+    /// The difference between the fifth- and fourth-order solutions.
+    pub err: [f64; M],
+}
+
+impl<const M: usize> DoPriStep<M> {
+    /// Takes the step: six evaluations of `f` (the first derivative is given).
+    pub fn take(
+        f: &mut impl FnMut(f64, &[f64; M]) -> [f64; M],
+        t: f64,
+        y: &[f64; M],
+        k1: &[f64; M],
+        h: f64,
+    ) -> Self {
+        let mut k = [[0.0; M]; 7];
+        let mut stages = [*y; 7];
+        k[0] = *k1;
+        for i in 1..7 {
+            let mut yi = *y;
+            for (j, kj) in k.iter().enumerate().take(i) {
+                let a = A[i][j];
+                if a != 0.0 {
+                    for m in 0..M {
+                        yi[m] += h * a * kj[m];
+                    }
+                }
+            }
+            stages[i] = yi;
+            k[i] = f(t + C[i] * h, &yi);
+        }
+        let err = std::array::from_fn(|m| h * (0..7).map(|i| E[i] * k[i][m]).sum::<f64>());
+        DoPriStep { stages, k, err }
+    }
+
+    /// The solution at `t + h`.
+    pub fn end(&self) -> [f64; M] {
+        self.stages[6]
+    }
+
+    /// The continuous extension (order 4) of component `m` at `t + theta·h`, `theta` in [0, 1].
+    pub fn dense(&self, m: usize, h: f64, theta: f64) -> f64 {
+        let y0 = self.stages[0][m];
+        let y1 = self.stages[6][m];
+        let r2 = y1 - y0;
+        let r3 = h * self.k[0][m] - r2;
+        let r4 = r2 - h * self.k[6][m] - r3;
+        let r5 = h * (0..7).map(|i| D[i] * self.k[i][m]).sum::<f64>();
+        let s = 1.0 - theta;
+        y0 + theta * (r2 + s * (r3 + theta * (r4 + s * r5)))
+    }
+}
+
+/// The step-size factor after an attempt with scaled error `err` (accept when ≤ 1): the
+/// fifth root with a safety factor, bounded to [0.2, 5].
+pub fn factor(err: f64) -> f64 {
+    if !err.is_finite() {
+        return 0.2;
+    }
+    (0.9 * err.max(1e-10).powf(-0.2)).clamp(0.2, 5.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// y' = −y·cos t: y = exp(−sin t). Fifth order: halving h divides the error by about 32;
+    /// the continuous extension is accurate inside the step.
+    #[test]
+    fn order_five_and_a_dense_output_of_order_four() {
+        let mut f = |t: f64, y: &[f64; 1]| [-y[0] * t.cos()];
+        let exact = |t: f64| (-t.sin()).exp();
+        let mut errs = vec![];
+        for n in [20, 40, 80] {
+            let h = 1.0 / n as f64;
+            let (mut t, mut y) = (0.0, [1.0]);
+            let mut dense_err: f64 = 0.0;
+            for _ in 0..n {
+                let k1 = f(t, &y);
+                let st = DoPriStep::take(&mut f, t, &y, &k1, h);
+                for theta in [0.25, 0.5, 0.75] {
+                    let d = st.dense(0, h, theta) - exact(t + theta * h);
+                    dense_err = dense_err.max(d.abs());
+                }
+                y = st.end();
+                t += h;
+            }
+            errs.push(((y[0] - exact(1.0)).abs(), dense_err));
+        }
+        for w in errs.windows(2) {
+            let ratio = w[0].0 / w[1].0;
+            assert!(ratio > 20.0 && ratio < 40.0, "{errs:?}");
+        }
+        assert!(errs[2].1 < 1e-10, "{errs:?}");
+    }
+}
