@@ -334,16 +334,16 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let g = (probe[0] - integral[0]) / delta;
         let s1 = V::read(self.radau.y.as_slice());
         let k = (m - 1) as f64;
-        let beta = s1 - s0 * (-decay).exp();
+        let beta = s1 - s0 * libm::exp(-decay);
         // Σ_{j<k} exp(−j·L) = (1 − exp(−k·L))/(1 − exp(−L)), k when L = 0.
         let sum = if decay > 0.0 {
-            (-k * decay).exp_m1() / (-decay).exp_m1()
+            libm::expm1(-k * decay) / libm::expm1(-decay)
         } else {
             k
         };
-        let s = s1 * (-k * decay).exp() + beta * sum;
+        let s = s1 * libm::exp(-k * decay) + beta * sum;
         // ∫F_F dt over the k windows skipped: k·I_p + G·Σ_{j<k} s_j, s_j the j-th window's start.
-        let (c_sum, d_sum) = affine_sums((-decay).exp(), beta, m - 1);
+        let (c_sum, d_sum) = affine_sums(libm::exp(-decay), beta, m - 1);
         let states = s1 * c_sum + d_sum;
         let i_p = V::from_xy(integral[0], integral[1]) - s0 * g;
         let skipped = i_p * k + states * g;
@@ -455,7 +455,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             }
             h.u0 = params.u0;
             h.f = params.f;
-            h.dir = (params.angle.cos(), params.angle.sin());
+            h.dir = (libm::cos(params.angle), libm::sin(params.angle));
         }
         // A new source or load starts a new averaging window.
         self.window = Window {

@@ -97,7 +97,7 @@ impl Forcing {
         }
         let tau_pi = std::f64::consts::TAU;
         let theta = self.theta0 + self.omega * tau;
-        let c1 = r.asin();
+        let c1 = libm::asin(r);
         let next = |c: f64| c + tau_pi * ((theta - c) / tau_pi).floor() + tau_pi;
         let t = next(c1).min(next(std::f64::consts::PI - c1));
         // The phase of a critical point just behind `theta` may round to it: step past it.
@@ -216,7 +216,7 @@ fn segment(forcing: &Forcing, relax: Relaxation, a: f64, b: f64, tol: f64, out: 
     // tolerance, or exhausted (kappa < 1: w = 0 from phi* on, a kink the panels end on).
     let budget = 0.05 * tol * len;
     let phi_cut = if relax.exponent == 1.0 {
-        (w_a / (0.05 * tol)).max(1.0).ln() + 3.0
+        libm::log((w_a / (0.05 * tol)).max(1.0)) + 3.0
     } else {
         relax.exhaustion(w_a)
     };

@@ -123,7 +123,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let s_of = |xi: f64, sigma: f64| {
                 // Against the branch (a trial stage beyond a reversal) the expression grows
                 // exponentially: bounded, so that the error estimate rejects the step.
-                s0 - (sigma * len - s0) * (-sigma * xi * inv_len).min(50.0).exp_m1()
+                s0 - (sigma * len - s0) * libm::expm1((-sigma * xi * inv_len).min(50.0))
             };
             // The support velocity at the stage times, recorded by the right-hand side.
             let vs_at = std::cell::Cell::new([0.0; 7]);
@@ -157,7 +157,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     ((k1[0] / nom_s).powi(2) + (k1[1] / nom_x).powi(2) + (k1[2] / nom_v).powi(2))
                         .sqrt();
                 h = if d > 0.0 {
-                    1e-2 / d * tol.powf(0.2)
+                    1e-2 / d * libm::pow(tol, 0.2)
                 } else {
                     h_max
                 };
@@ -180,7 +180,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             // The error of s from that of ξ (ds/dξ is largest at the step's start, or its
             // end on a step that went a little against σ).
             let slope =
-                (1.0 - sigma * s0 * inv_len).abs() * (-sigma * u1[0] * inv_len).exp().max(1.0);
+                (1.0 - sigma * s0 * inv_len).abs() * libm::exp(-sigma * u1[0] * inv_len).max(1.0);
             let e = [
                 step.err[0] * slope / (rtol * (nom_s + s0.abs())),
                 step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),

@@ -25,7 +25,7 @@ pub fn canonical_time(t: f64) -> f64 {
     if t == 0.0 || !t.is_finite() {
         return t;
     }
-    let exponent = t.abs().log10().floor() as i32;
+    let exponent = libm::log10(t.abs()).floor() as i32;
     let scale = 10f64.powi(11 - exponent);
     if !scale.is_finite() || scale == 0.0 {
         return t;

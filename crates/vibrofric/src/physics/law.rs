@@ -96,16 +96,16 @@ impl Relaxation {
     pub fn remaining(&self, w0: f64, phi: f64) -> f64 {
         let u = 1.0 - self.exponent;
         if u == 0.0 {
-            return w0 * (-phi).exp();
+            return w0 * libm::exp(-phi);
         }
         if w0 <= 0.0 {
             return 0.0;
         }
-        let r = u * phi * (-u * w0.ln()).exp();
+        let r = u * phi * libm::exp(-u * libm::log(w0));
         if r >= 1.0 {
             0.0
         } else {
-            w0 * ((-r).ln_1p() / u).exp()
+            w0 * libm::exp(libm::log1p(-r) / u)
         }
     }
 
@@ -113,7 +113,7 @@ impl Relaxation {
     pub fn exhaustion(&self, w0: f64) -> f64 {
         let u = 1.0 - self.exponent;
         if u > 0.0 && w0 > 0.0 {
-            (u * w0.ln()).exp() / u
+            libm::exp(u * libm::log(w0)) / u
         } else if u > 0.0 {
             0.0
         } else {
@@ -206,7 +206,7 @@ impl FrictionLaw for Dahl {
             // Longitudinal only (`docs/model.md`): ds/dt = v_r·|w|^kappa·sgn(w), w = 1 − sgn(v_r)·s/s_ss.
             let (s, v) = (s.x(), vr.x());
             let w = 1.0 - v.signum() * s * self.inv_s_ss;
-            V::from_xy(v * w.abs().powf(self.kappa) * w.signum(), 0.0)
+            V::from_xy(v * libm::pow(w.abs(), self.kappa) * w.signum(), 0.0)
         }
     }
 
@@ -253,12 +253,14 @@ impl FrictionLaw for Dahl {
             let (s, v) = (s.x(), vr.x());
             let w = 1.0 - v.signum() * s * self.inv_s_ss;
             // |w|^(kappa−1) is unbounded at w = 0 for kappa < 1; the floor keeps Newton finite.
-            let d =
-                -self.kappa * v.abs() * w.abs().max(1e-12).powf(self.kappa - 1.0) * self.inv_s_ss;
+            let d = -self.kappa
+                * v.abs()
+                * libm::pow(w.abs().max(1e-12), self.kappa - 1.0)
+                * self.inv_s_ss;
             elastic(
                 self.k_t,
                 diag(d),
-                diag(w.abs().powf(self.kappa) * w.signum()),
+                diag(libm::pow(w.abs(), self.kappa) * w.signum()),
             )
         }
     }
@@ -304,7 +306,7 @@ impl Dupont {
             1.0
         } else {
             let mid = 0.5 * (self.s_ss + self.s_ba);
-            0.5 * (std::f64::consts::PI * (z - mid) / (self.s_ss - self.s_ba)).sin() + 0.5
+            0.5 * libm::sin(std::f64::consts::PI * (z - mid) / (self.s_ss - self.s_ba)) + 0.5
         }
     }
 }
@@ -318,8 +320,8 @@ impl Dupont {
         }
         let width = self.s_ss - self.s_ba;
         let mid = 0.5 * (self.s_ss + self.s_ba);
-        let d =
-            0.5 * std::f64::consts::PI / width * (std::f64::consts::PI * (z - mid) / width).cos();
+        let d = 0.5 * std::f64::consts::PI / width
+            * libm::cos(std::f64::consts::PI * (z - mid) / width);
         s * (d / z)
     }
 }
@@ -406,7 +408,7 @@ impl LuGre {
     /// relaxation rate `|v_r|/g` unbounded.
     #[inline(always)]
     fn g(&self, vr2: f64) -> f64 {
-        let g = (self.f_c + (self.f_s - self.f_c) * (-vr2 * self.inv_v_s2).exp()) / self.k_t;
+        let g = (self.f_c + (self.f_s - self.f_c) * libm::exp(-vr2 * self.inv_v_s2)) / self.k_t;
         g.max(G_FLOOR * self.f_c.max(self.f_s) / self.k_t)
             .max(1e-290)
     }
@@ -441,7 +443,7 @@ impl FrictionLaw for LuGre {
         if self.f_c == 0.0 && self.f_s == 0.0 {
             return vr * self.h_v; // no dry friction: the viscous term alone
         }
-        let h_t = self.h_t0 * (-vr.dot(vr) * self.inv_v_e2).exp();
+        let h_t = self.h_t0 * libm::exp(-vr.dot(vr) * self.inv_v_e2);
         s * self.k_t + ds * h_t + vr * self.h_v
     }
 
@@ -469,7 +471,7 @@ impl FrictionLaw for LuGre {
     fn jacobian<V: Vector>(&self, s: V, vr: V, ds: V) -> LawJacobian {
         let r2 = vr.dot(vr);
         let r = r2.sqrt();
-        let h_t = self.h_t0 * (-r2 * self.inv_v_e2).exp();
+        let h_t = self.h_t0 * libm::exp(-r2 * self.inv_v_e2);
         let grad_h_t = vr * (-2.0 * self.inv_v_e2 * h_t);
         if self.f_c == 0.0 && self.f_s == 0.0 {
             return LawJacobian {
@@ -478,7 +480,7 @@ impl FrictionLaw for LuGre {
             };
         }
         let (rate_s, rate_v) = {
-            let ex = (-r2 * self.inv_v_s2).exp();
+            let ex = libm::exp(-r2 * self.inv_v_s2);
             let g_raw = (self.f_c + (self.f_s - self.f_c) * ex) / self.k_t;
             // The floor of `g` (see `LuGre::g`): flat below it.
             let g = self.g(r2);
@@ -506,7 +508,7 @@ impl FrictionLaw for LuGre {
         let vr2 = vr.dot(vr);
         let g = self.g(vr2);
         let decay = vr2.sqrt() / g;
-        let h_t = self.h_t0 * (-vr2 * self.inv_v_e2).exp();
+        let h_t = self.h_t0 * libm::exp(-vr2 * self.inv_v_e2);
         Some(Linear {
             decay,
             target: unit(vr) * g,

@@ -23,7 +23,7 @@ impl Harmonic {
         Harmonic {
             u0,
             f,
-            dir: (angle.cos(), angle.sin()),
+            dir: (libm::cos(angle), libm::sin(angle)),
             t_ref: t_start,
             theta_ref: phase.rem_euclid(TAU),
         }

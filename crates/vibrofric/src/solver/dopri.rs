@@ -124,7 +124,7 @@ pub fn factor(err: f64) -> f64 {
     if !err.is_finite() {
         return 0.2;
     }
-    (0.9 * err.max(1e-10).powf(-0.2)).clamp(0.2, 5.0)
+    (0.9 * libm::pow(err.max(1e-10), -0.2)).clamp(0.2, 5.0)
 }
 
 #[cfg(test)]

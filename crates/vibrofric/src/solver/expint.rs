@@ -140,7 +140,7 @@ fn phis(x: f64) -> [f64; 7] {
             *o = (0..24).rev().map(|m| pw[m] * INV_FACT[m + i + 1]).sum();
         }
     } else {
-        let e = (-x).exp();
+        let e = libm::exp(-x);
         let (mut partial, mut zm, mut zj) = (0.0, 1.0, 1.0);
         for (i, o) in out.iter_mut().enumerate() {
             partial += zm * INV_FACT[i];
@@ -333,7 +333,7 @@ impl ExpIntegrator {
             let out = step(sys, t, h, *s, scale_s, scale_f, rtol);
             self.evals += out.evals;
             let err = if out.err.is_finite() { out.err } else { 1e10 };
-            let fac = (SAFE * err.max(1e-10).powf(-1.0 / 6.0)).clamp(0.2, 2.0);
+            let fac = (SAFE * libm::pow(err.max(1e-10), -1.0 / 6.0)).clamp(0.2, 2.0);
             if err > 1.0 {
                 self.rejected += 1;
                 self.h = h * fac.min(0.9);
@@ -435,7 +435,7 @@ fn step(
         }
     } else {
         let phi_end = phis(big);
-        let decay_end = (-big).exp();
+        let decay_end = libm::exp(-big);
         let mut transient = [0.0; 2];
         for i in 0..dim {
             let q: [f64; N] = std::array::from_fn(|j| samples[j].q[i]);
@@ -474,10 +474,10 @@ fn step(
         if transient_max * c_max * layer_bound > 1e-3 * rtol * scale_f * h {
             // ∫ c(t)·e^{−λ(t)} dt on panels doubling from the relaxation time 1/a(0).
             let gamma: [f64; N] = std::array::from_fn(|m| (0..N).map(|k| VINV[m][k] * c[k]).sum());
-            let mut f = |x: f64| horner(&gamma, x) * (-lambda_at(x)).exp();
+            let mut f = |x: f64| horner(&gamma, x) * libm::exp(-lambda_at(x));
             let budget = 1e-3 * rtol * scale_f / transient_max;
             let x_b = (1.0 / (h * a0)).clamp(1e-12, 1.0);
-            let phi_cut = (1.0 / (1e-3 * rtol)).ln() + 3.0;
+            let phi_cut = libm::log(1.0 / (1e-3 * rtol)) + 3.0;
             let (mut lo, mut width) = (0.0, x_b);
             let mut j = Integral::default();
             loop {

@@ -105,7 +105,7 @@ impl<const N: usize> Radau5<N> {
     ) -> f64 {
         let d1 = rms(f0, &nominal.map(|v| v.max(f64::MIN_POSITIVE)));
         let h = if d1 > 0.0 { 1e-2 / d1 } else { span };
-        (h * self.tol.powf(0.2))
+        (h * libm::pow(self.tol, 0.2))
             .min(span)
             .max(1e-14 * (1.0 + self.t.abs()))
     }

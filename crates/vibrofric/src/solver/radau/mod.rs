@@ -100,7 +100,7 @@ pub struct Radau5<const N: usize> {
 impl<const N: usize> Radau5<N> {
     pub fn new(t: f64, y: SVector<f64, N>, tol: f64) -> Self {
         assert!(N <= MAX_DIM, "state dimension {N} above {MAX_DIM}");
-        let rtol = 0.1 * tol.powf(2.0 / 3.0);
+        let rtol = 0.1 * libm::pow(tol, 2.0 / 3.0);
         let fnewt = (10.0 * f64::EPSILON / rtol).max(rtol.sqrt().min(0.03));
         Radau5 {
             t,
@@ -108,7 +108,7 @@ impl<const N: usize> Radau5<N> {
             tol,
             rtol,
             fnewt,
-            ln_fnewt: fnewt.ln(),
+            ln_fnewt: libm::log(fnewt),
             h: 0.0,
             h_old: 0.0,
             h_acc: 0.0,

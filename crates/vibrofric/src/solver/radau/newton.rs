@@ -204,13 +204,13 @@ impl<const N: usize> Radau5<N> {
                 thq_old = thq;
                 if theta < 0.99 {
                     let faccon = (theta / (1.0 - theta)).max(f64::EPSILON);
-                    self.ln_faccon = faccon.ln();
+                    self.ln_faccon = libm::log(faccon);
                     self.faccon_exp = 1.0;
                     let dyth = faccon * dyno * theta.powi((NIT - 1 - newt) as i32) / self.fnewt;
                     if dyth >= 1.0 {
                         // Convergence too slow for this step: shrink it.
                         let qnewt = dyth.clamp(1e-4, 20.0);
-                        shrink = 0.8 * qnewt.powf(-1.0 / (4.0 + (NIT - 1 - newt) as f64));
+                        shrink = 0.8 * libm::pow(qnewt, -1.0 / (4.0 + (NIT - 1 - newt) as f64));
                         break Newton::Failed { shrink };
                     }
                 } else {
@@ -262,6 +262,6 @@ impl<const N: usize> Radau5<N> {
     /// RADAU5's stopping test `faccon·dyno ≤ fnewt` with the relaxed `faccon`, in logarithms.
     #[inline(always)]
     fn newton_converged(&self, dyno: f64) -> bool {
-        self.faccon_exp * self.ln_faccon + dyno.ln() <= self.ln_fnewt
+        self.faccon_exp * self.ln_faccon + libm::log(dyno) <= self.ln_fnewt
     }
 }
