@@ -675,14 +675,20 @@ fn normal_force_zero_is_valid() {
     for k in 0..5 {
         t = step(&mut i, k, t, H);
     }
-    let y = i
-        .get_real(&[vr::F_FX, vr::REDUCTION, vr::X, vr::V_X])
-        .unwrap();
+    let y = i.get_real(&[vr::F_FX, vr::X, vr::V_X]).unwrap();
     assert!(y.iter().all(|v| v.is_finite()), "{y:?}");
     assert_eq!(y[0], 0.0, "no friction");
     // F_N is tunable: friction comes back during the run.
     ok!(i, i.set_real(&[vr::F_N, vr::MU], &[55.0, 0.2]));
     let _ = step(&mut i, 5, t, H);
+    // Under the velocity drive, no Coulomb force means no reduction: 0.
+    let fmu = load("paper-longitudinal.toml", "fn0-velocity");
+    let mut i = started(&fmu, "fn0", &[(vr::F_N, 0.0)]);
+    ok!(i, i.do_step(0.0, H));
+    assert_eq!(
+        i.get_real(&[vr::F_FX, vr::F_MEAN, vr::REDUCTION]).unwrap(),
+        [0.0, 0.0, 0.0]
+    );
 }
 
 #[test]
@@ -824,4 +830,229 @@ fn every_standard_scene_through_the_fmu_equals_the_core() {
             }
         });
     }
+}
+
+/// Each instance answers only its own interface's functions (FMI 2.0 sections 3.2.3 and
+/// 4.2.4): on a Model Exchange instance the Co-Simulation functions (input and output
+/// derivatives, steps, status queries) answer fmi2Error saying so, in every state; on a
+/// Co-Simulation instance the Model Exchange functions likewise. A Model Exchange instance used
+/// to accept input derivatives (one on `F_N` zeroed the deformation in continuous-time mode,
+/// with no event), output derivatives and fmi2GetRealStatus, and answered fmi2GetStatus with
+/// fmi2Discard; a Co-Simulation instance read continuous states, derivatives, event indicators
+/// and nominals.
+#[test]
+fn each_interface_answers_only_its_own_functions() {
+    let file = "drill-string-contact.toml";
+    let fmu = load(file, "interfaces");
+    let f = fmu.functions;
+    let me_f = fmu.model_exchange.expect("Model Exchange functions");
+    type Raw = Box<dyn Fn(vibrofric::fmi::fmi2::types::fmi2Component) -> i32>;
+    let cs_only: Vec<(&str, Raw)> = vec![
+        (
+            "fmi2SetRealInputDerivatives",
+            Box::new(move |c| unsafe { (f.fmi2SetRealInputDerivatives)(c, &vr::F_N, 1, &1, &1e6) }),
+        ),
+        (
+            "fmi2GetRealOutputDerivatives",
+            Box::new(move |c| unsafe {
+                let mut d = 0.0;
+                (f.fmi2GetRealOutputDerivatives)(c, &vr::X, 1, &1, &mut d)
+            }),
+        ),
+        (
+            "fmi2DoStep",
+            Box::new(move |c| unsafe { (f.fmi2DoStep)(c, 0.0, 1e-3, 1) }),
+        ),
+        (
+            "fmi2CancelStep",
+            Box::new(move |c| unsafe { (f.fmi2CancelStep)(c) }),
+        ),
+        (
+            "fmi2GetStatus",
+            Box::new(move |c| unsafe {
+                let mut s = 0;
+                (f.fmi2GetStatus)(c, 0, &mut s)
+            }),
+        ),
+        (
+            "fmi2GetRealStatus",
+            Box::new(move |c| unsafe {
+                let mut r = 0.0;
+                (f.fmi2GetRealStatus)(c, 2, &mut r)
+            }),
+        ),
+        (
+            "fmi2GetBooleanStatus",
+            Box::new(move |c| unsafe {
+                let mut b = 0;
+                (f.fmi2GetBooleanStatus)(c, 3, &mut b)
+            }),
+        ),
+    ];
+    let sc = scene(file);
+    let nx = sc
+        .variables()
+        .filter(|v| matches!(v.kind, VarKind::State(_)))
+        .count();
+    let ni = sc.config.event_indicators();
+    let me_only: Vec<(&str, Raw)> = vec![
+        (
+            "fmi2GetContinuousStates",
+            Box::new(move |c| unsafe {
+                let mut x = vec![0.0; nx];
+                (me_f.fmi2GetContinuousStates)(c, x.as_mut_ptr(), nx)
+            }),
+        ),
+        (
+            "fmi2GetDerivatives",
+            Box::new(move |c| unsafe {
+                let mut x = vec![0.0; nx];
+                (me_f.fmi2GetDerivatives)(c, x.as_mut_ptr(), nx)
+            }),
+        ),
+        (
+            "fmi2GetEventIndicators",
+            Box::new(move |c| unsafe {
+                let mut z = vec![0.0; ni];
+                (me_f.fmi2GetEventIndicators)(c, z.as_mut_ptr(), ni)
+            }),
+        ),
+        (
+            "fmi2GetNominalsOfContinuousStates",
+            Box::new(move |c| unsafe {
+                let mut x = vec![0.0; nx];
+                (me_f.fmi2GetNominalsOfContinuousStates)(c, x.as_mut_ptr(), nx)
+            }),
+        ),
+        (
+            "fmi2SetTime",
+            Box::new(move |c| unsafe { (me_f.fmi2SetTime)(c, 1e-3) }),
+        ),
+        (
+            "fmi2EnterEventMode",
+            Box::new(move |c| unsafe { (me_f.fmi2EnterEventMode)(c) }),
+        ),
+    ];
+    // Model Exchange instances in Instantiated, InitializationMode, EventMode,
+    // ContinuousTimeMode and Terminated; Co-Simulation instances in Instantiated,
+    // InitializationMode, StepComplete and Terminated.
+    for phase in 0..5 {
+        for (name, call) in &cs_only {
+            let mut i = fmu.instantiate_model_exchange("me").unwrap();
+            let vrs = all_vrs(&sc);
+            if phase >= 1 {
+                ok!(i, i.enter_initialization_mode());
+            }
+            if phase >= 2 {
+                ok!(i, i.exit_initialization_mode());
+            }
+            if phase >= 3 {
+                ok!(i, i.new_discrete_states().0);
+                ok!(i, i.enter_continuous_time_mode());
+            }
+            if phase >= 4 {
+                ok!(i, i.terminate());
+            }
+            let before = i.get_real(&vrs).ok();
+            i.take_messages();
+            let s = vibrofric_import::status(call(i.raw()));
+            assert_eq!(s, Status::Error, "{name} on Model Exchange, phase {phase}");
+            let msg = i.last_message();
+            assert!(
+                msg.contains(name)
+                    && msg.contains("a function of Co-Simulation only")
+                    && msg.contains("instantiated for Model Exchange"),
+                "{msg}"
+            );
+            if let Some(b) = before {
+                assert_eq!(bits(&i.get_real(&vrs).unwrap()), bits(&b), "{name}");
+            }
+        }
+        for (name, call) in &me_only {
+            let mut i = fmu.instantiate("cs").unwrap();
+            if phase >= 1 {
+                ok!(i, i.enter_initialization_mode());
+            }
+            if phase >= 2 {
+                ok!(i, i.exit_initialization_mode());
+            }
+            if phase >= 3 {
+                ok!(i, i.do_step(0.0, 1e-3));
+            }
+            if phase >= 4 {
+                ok!(i, i.terminate());
+            }
+            let s = vibrofric_import::status(call(i.raw()));
+            assert_eq!(s, Status::Error, "{name} on Co-Simulation, phase {phase}");
+            let msg = i.last_message();
+            assert!(
+                msg.contains(name)
+                    && msg.contains("a function of Model Exchange only")
+                    && msg.contains("instantiated for Co-Simulation"),
+                "{msg}"
+            );
+        }
+    }
+    // The Model Exchange instance of DrillStringContact with F_N = 0 keeps its deformation in
+    // continuous-time mode: no input derivative reaches it.
+    let mut i = fmu.instantiate_model_exchange("me").unwrap();
+    ok!(i, i.enter_initialization_mode());
+    ok!(i, i.exit_initialization_mode());
+    ok!(i, i.new_discrete_states().0);
+    ok!(i, i.enter_continuous_time_mode());
+    let mut x = vec![0.0; nx];
+    x[0] = 1e-8;
+    ok!(i, i.set_continuous_states(&x));
+    ok!(i, i.set_real(&[vr::F_N], &[0.0]));
+    assert_eq!(
+        i.set_real_input_derivatives(&[vr::F_N], &[1], &[1e6]),
+        Status::Error
+    );
+    ok!(i, i.reset());
+}
+
+/// After a refused call, the calls refused in state Error say which call put the instance
+/// there and why, and that fmi2Reset (or restoring a saved state) recovers; it does.
+#[test]
+fn refusals_in_error_name_the_call_that_caused_it_and_the_way_out() {
+    let fmu = load("contact.toml", "error-cause");
+    let mut i = started(&fmu, "cause", &[]);
+    assert_eq!(i.set_real(&[vr::K_T], &[-1.0]), Status::Error);
+    assert_eq!(i.do_step(0.0, H), Status::Error);
+    let msg = i.last_message();
+    assert!(
+        msg.contains("not allowed in state Error")
+            && msg.contains("entered Error at fmi2SetReal in state StepComplete")
+            && msg.contains("k_t")
+            && msg.contains("fmi2Reset recovers it"),
+        "{msg}"
+    );
+    // The first cause stays, however many calls are refused after it.
+    assert_eq!(i.exit_initialization_mode(), Status::Error);
+    assert!(i.last_message().contains("at fmi2SetReal"));
+    ok!(i, i.reset());
+    ok!(i, i.enter_initialization_mode());
+    ok!(i, i.exit_initialization_mode());
+    ok!(i, i.do_step(0.0, H));
+    // After the reset, a new error names its own cause.
+    assert_eq!(i.do_step(5.0, H), Status::Error);
+    assert_eq!(i.do_step(H, H), Status::Error);
+    assert!(
+        i.last_message()
+            .contains("entered Error at fmi2DoStep in state StepComplete"),
+        "{}",
+        i.last_message()
+    );
+    // FMI 3.0 names its own reset.
+    let fmu3 = load3("contact.toml", "error-cause-3");
+    let mut c = fmu3.instantiate("cause3").unwrap();
+    assert_eq!(c.exit_initialization_mode(), Status::Error);
+    assert_eq!(c.exit_initialization_mode(), Status::Error);
+    let msg = c.last_message();
+    assert!(
+        msg.contains("entered Error at fmi3ExitInitializationMode in state Instantiated")
+            && msg.contains("fmi3Reset recovers it"),
+        "{msg}"
+    );
+    assert_eq!(c.reset(), Status::Ok);
 }

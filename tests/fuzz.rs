@@ -2,11 +2,22 @@
 //!
 //! C API: random call sequences (in and out of order) on every standard scene's FMU, with values
 //! from the edges of every range and beyond (NaN, ±inf, ±1e300, subnormals, 0, negatives),
-//! unknown value references, wrong communication points, and serialized states that are
-//! corrupted (bit flips, truncation, random bytes). The oracle, after every call:
+//! unknown value references, wrong communication points, start times across the accepted range,
+//! in-range values at the edges of floating point (subnormal forces and coefficients whose
+//! products and quotients overflow), Model Exchange states far from any trajectory, calls of
+//! the other interface, and serialized states that are corrupted (bit flips, truncation,
+//! random bytes) or come from the other interface or FMI edition. The oracle, after every
+//! call:
 //! - the status is one the standard allows for a synchronous FMU (never fmi2Fatal or Pending);
 //! - a call refused with fmi2Error or fmi2Discard changes no value the instance reports;
-//! - fmi2GetReal never returns a non-finite value with fmi2OK;
+//! - fmi2GetReal never returns a non-finite value with fmi2OK, and after a call that was
+//!   accepted it does not fail: every accepted value evaluates (Model Exchange may answer
+//!   fmi2Discard for states set outside the model's domain);
+//! - where fmi2GetReal is not allowed (Instantiated), a refused call leaves the staged values
+//!   (read through a saved state) as they were;
+//! - a state just saved restores (at any start time, after any step or fmi2SetTime);
+//! - a function of the other interface, and a saved state of the other interface or of the
+//!   other FMI edition, is refused with fmi2Error;
 //! - fmi2Reset brings an instance back from fmi2Error;
 //! - every call returns within `CALL_BOUND` (an oracle of the fuzzer, not a speed assertion).
 //!
@@ -15,7 +26,9 @@
 //!
 //! CI runs a bounded campaign (`VIBROFRIC_FUZZ_CALLS`, default 300 000 FMI 2.0 Co-Simulation
 //! calls, `VIBROFRIC_FUZZ_CALLS_ME`, default 100 000 Model Exchange calls, and
-//! `VIBROFRIC_FUZZ_CALLS3`, default 100 000 FMI 3.0 calls; about a minute); a long one:
+//! `VIBROFRIC_FUZZ_CALLS3`, default 100 000 FMI 3.0 calls; about a minute); a long one (with
+//! start times up to ±1e12 s: `VIBROFRIC_FUZZ_FAR_STARTS=1`; calls over 100 ms listed with
+//! `VIBROFRIC_FUZZ_SLOW=1`):
 //! `VIBROFRIC_FUZZ_CALLS=5000000 VIBROFRIC_FUZZ_SEED=7 cargo test --release --test fuzz -- --nocapture`
 
 #[allow(unused_macros)]
@@ -27,6 +40,8 @@ use fmi_harness::*;
 use vibrofric::description::scene::Scene;
 use vibrofric::description::variables::VarKind;
 use vibrofric::description::xml;
+use vibrofric::fmi::saved;
+use vibrofric::fmi::staging::Staged;
 use vibrofric_import::Status;
 
 /// xorshift64*: small, seeded, reproducible on every platform.
@@ -99,10 +114,40 @@ const EDGES: [f64; 22] = [
     1e3,
 ];
 
-/// A value for a variable that starts at `start`: an edge, near the start, far from it, or
-/// its negative.
+/// Values inside the ranges at the edges of floating point: subnormals, the smallest normal,
+/// values whose products with others underflow and whose quotients overflow.
+const TINY: [f64; 8] = [
+    5e-324,
+    1.5e-323,
+    1e-310,
+    1.5e-307,
+    f64::MIN_POSITIVE,
+    1e-300,
+    1e-295,
+    1e-290,
+];
+
+/// Start times across the range where importers start: half the sequences at 0, the rest at
+/// the times where saved states used to fail (from 16384 s on) and anywhere up to ±1e7 s.
+/// Beyond (setting up the experiment also tries 1e9 and 1e300) the absolute time's
+/// resolution nears the vibration period and a step costs up to seconds: the long campaign
+/// covers that with `VIBROFRIC_FUZZ_FAR_STARTS=1`.
+fn start_time(rng: &mut Rng) -> f64 {
+    let far = std::env::var("VIBROFRIC_FUZZ_FAR_STARTS").is_ok();
+    match rng.below(16) {
+        0..=7 => 0.0,
+        8..=11 => rng.pick(&[16383.0, 16384.0, 1e5, 1e7, 12345.678, -5.0, 4.5 * 3600.0]),
+        12..=14 => 10f64.powf(7.0 * rng.unit()),
+        _ if far => 10f64.powf(7.0 + 5.0 * rng.unit()) * rng.pick(&[1.0, -1.0]),
+        _ => -(10f64.powf(7.0 * rng.unit())),
+    }
+}
+
+/// A value for a variable that starts at `start`: an edge, a tiny in-range value, near the
+/// start, far from it, or its negative.
 fn value(rng: &mut Rng, start: f64) -> f64 {
-    match rng.below(4) {
+    match rng.below(5) {
+        4 => rng.pick(&TINY),
         0 => rng.pick(&EDGES),
         1 => start * (1.0 + 0.5 * (rng.unit() - 0.5)),
         2 => start * 10f64.powf(8.0 * (rng.unit() - 0.5)),
@@ -118,6 +163,8 @@ type Values = Result<Vec<f64>, Status>;
 struct Oracle {
     slowest: (Duration, String),
     by_status: [u64; 4],
+    /// Calls over 100 ms: how many, and their total time.
+    slow: (u64, Duration),
 }
 
 impl Oracle {
@@ -125,6 +172,7 @@ impl Oracle {
     /// within `CALL_BOUND`; the values of `vrs` read after it are finite when read with OK, and
     /// a call refused with Error or Discard left them as they were `before`, unless it is one
     /// that changes values (`may_change`: setting a saved state, reset).
+    #[allow(clippy::too_many_arguments)]
     fn check(
         &mut self,
         sc: &Scene,
@@ -132,22 +180,38 @@ impl Oracle {
         (status, allowed): (Status, &[Status]),
         took: Duration,
         (vrs, before, after): (&[u32], &Option<Vec<f64>>, &Values),
+        (staged_before, staged_after): (&Option<Staged>, &Option<Staged>),
         may_change: bool,
+        message: &str,
     ) {
         let id = &sc.model_identifier;
         assert!(took < CALL_BOUND, "{id}: {what} took {took:?}");
         if took > self.slowest.0 {
             self.slowest = (took, format!("{id}: {what}"));
         }
+        if took > Duration::from_millis(100) {
+            self.slow = (self.slow.0 + 1, self.slow.1 + took);
+            if std::env::var("VIBROFRIC_FUZZ_SLOW").is_ok() {
+                println!("slow: {took:?} {id}: {what}");
+            }
+        }
         assert!(
             allowed.contains(&status),
-            "{id}: {what} returned {status:?}"
+            "{id}: {what} returned {status:?}: {message}"
         );
         self.by_status[(status as usize).min(3)] += 1;
         if let Ok(values) = after {
             if let Some(k) = values.iter().position(|x| !x.is_finite()) {
                 panic!("{id}: after {what}, vr {} = {} with OK", vrs[k], values[k]);
             }
+        }
+        // Every accepted value evaluates: a call accepted where values were readable leaves
+        // them readable.
+        if status == Status::Ok && before.is_some() && !may_change {
+            assert!(
+                !matches!(after, Err(Status::Error)),
+                "{id}: {what} was accepted, then reading the values failed: {message}"
+            );
         }
         let refused = matches!(status, Status::Error | Status::Discard);
         if refused && !may_change {
@@ -158,16 +222,89 @@ impl Oracle {
                     "{id}: {what} was refused but changed values"
                 );
             }
+            if let (Some(b), Some(a)) = (staged_before, staged_after) {
+                assert_eq!(b, a, "{id}: {what} was refused but changed staged values");
+            }
         }
     }
 
     fn summary(&self) -> String {
         let [ok, warning, discard, error] = self.by_status;
         format!(
-            "{ok} OK, {warning} warning, {discard} discard, {error} error; slowest {:?} ({})",
-            self.slowest.0, self.slowest.1
+            "{ok} OK, {warning} warning, {discard} discard, {error} error; slowest {:?} ({}); {} calls over 100 ms, {:?} in all",
+            self.slowest.0, self.slowest.1, self.slow.0, self.slow.1
         )
     }
+}
+
+/// The staged values of a saved state, the state machine's state left out.
+fn staged_of(bytes: Option<Vec<u8>>) -> Option<Staged> {
+    let mut s = saved::decode(&bytes?).ok()?.staged;
+    s.state = vibrofric::fmi::State::Instantiated;
+    Some(s)
+}
+
+/// An FMI 2.0 instance's staged values, read through a saved state: what a refused call must
+/// leave as it was where fmi2GetReal is not allowed.
+fn staged2(inst: &mut vibrofric_import::Instance) -> Option<Staged> {
+    let st = inst.get_state().ok()?;
+    let bytes = inst.serialize_state(&st).ok();
+    inst.free_state(st);
+    staged_of(bytes)
+}
+
+/// The same for an FMI 3.0 instance.
+fn staged3(inst: &mut vibrofric_import::fmi3::Instance3) -> Option<Staged> {
+    let st = inst.get_state().ok()?;
+    let bytes = inst.serialize_state(&st).ok();
+    inst.free_state(st);
+    staged_of(bytes)
+}
+
+/// Serialized states of the other interfaces and editions of a scene's FMU, each after
+/// initialization: an FMI 2.0 Co-Simulation, an FMI 2.0 Model Exchange and an FMI 3.0
+/// Co-Simulation instance's.
+struct Foreign {
+    cs2: Vec<u8>,
+    me2: Vec<u8>,
+    cs3: Vec<u8>,
+}
+
+fn foreign(file: &str, tag: &str) -> Foreign {
+    let fmu = load(file, &format!("fuzz-foreign-{tag}-{file}"));
+    let fmu3 = load3(file, &format!("fuzz-foreign3-{tag}-{file}"));
+    let bytes2 = |mut i: vibrofric_import::Instance| {
+        i.enter_initialization_mode();
+        i.exit_initialization_mode();
+        let st = i.get_state().unwrap();
+        let b = i.serialize_state(&st).unwrap();
+        i.free_state(st);
+        b
+    };
+    let mut c3 = fmu3.instantiate("foreign").unwrap();
+    c3.enter_initialization_mode(None, 0.0, None);
+    c3.exit_initialization_mode();
+    let st = c3.get_state().unwrap();
+    let cs3 = c3.serialize_state(&st).unwrap();
+    c3.free_state(st);
+    Foreign {
+        cs2: bytes2(fmu.instantiate("foreign").unwrap()),
+        me2: bytes2(fmu.instantiate_model_exchange("foreign").unwrap()),
+        cs3,
+    }
+}
+
+/// Deserializing a state of another interface or edition: refused with fmi2Error, saying so.
+fn refuse_foreign(sc: &Scene, result: Result<(), Status>, message: &str) -> (Status, String) {
+    let s = result.err().unwrap_or(Status::Ok);
+    assert_eq!(
+        s,
+        Status::Error,
+        "{}: a state of another interface or edition was accepted",
+        sc.model_identifier
+    );
+    assert!(message.contains("restores only into"), "{message}");
+    (s, "foreign state".into())
 }
 
 #[test]
@@ -176,13 +313,13 @@ fn c_api_call_sequences_keep_the_invariants() {
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
     let fmus: Vec<_> = FILES
         .iter()
-        .map(|f| (load(f, &format!("fuzz-{f}")), scene(f)))
+        .map(|f| (load(f, &format!("fuzz-{f}")), scene(f), foreign(f, "cs")))
         .collect();
     let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
     let mut calls = 0u64;
     let mut oracle = Oracle::default();
     while calls < budget {
-        let (fmu, sc) = &fmus[rng.below(fmus.len())];
+        let (fmu, sc, fr) = &fmus[rng.below(fmus.len())];
         let vrs = all_vrs(sc);
         let starts: Vec<f64> = sc
             .variables()
@@ -192,29 +329,34 @@ fn c_api_call_sequences_keep_the_invariants() {
         let mut t = 0.0;
         // Most sequences start from a properly initialized instance, so that the stepping
         // states are explored as much as the refusals.
-        let init = |inst: &mut vibrofric_import::Instance| {
-            inst.setup_experiment(Some(1e-6), 0.0, None);
+        let init = |inst: &mut vibrofric_import::Instance, t0: f64| {
+            inst.setup_experiment(Some(1e-6), t0, None);
             inst.enter_initialization_mode();
             inst.exit_initialization_mode();
         };
         if rng.below(4) != 0 {
-            init(&mut inst);
+            t = start_time(&mut rng);
+            init(&mut inst, t);
         }
         let mut states = vec![];
         let mut saved: Vec<Vec<u8>> = vec![];
         for _ in 0..rng.below(200) + 1 {
             calls += 1;
             let before = inst.get_real(&vrs).ok();
+            let staged_before = before.is_none().then(|| staged2(&mut inst)).flatten();
             // do_step and set_real most often.
             let op = rng.pick(&[
-                0, 1, 2, 3, 4, 5, 6, 7, 7, 8, 8, 9, 9, 7, 8, 9, 10, 11, 12, 13, 14, 15,
+                0, 1, 2, 3, 4, 5, 6, 7, 7, 8, 8, 9, 9, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
             ]);
             let started = Instant::now();
             let (status, what) = match op {
                 0 => {
                     let tol =
                         rng.pick(&[Some(1e-6), Some(5e-324), Some(1.0), None, Some(f64::NAN)]);
-                    let t0 = rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]);
+                    let t0 = match rng.below(2) {
+                        0 => rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]),
+                        _ => start_time(&mut rng),
+                    };
                     t = t0;
                     (
                         inst.setup_experiment(tol, t0, None),
@@ -250,6 +392,9 @@ fn c_api_call_sequences_keep_the_invariants() {
                         -1e-3,
                         f64::NAN,
                         2.0f64.powi(-10),
+                        5e-4,
+                        1.5e-3,
+                        2.5e-3,
                     ]);
                     let current = if rng.below(8) == 0 { t + 1.0 } else { t };
                     let s = inst.do_step(current, h);
@@ -264,6 +409,15 @@ fn c_api_call_sequences_keep_the_invariants() {
                 ),
                 11 => match inst.get_state() {
                     Ok(st) => {
+                        // A state just saved restores, whatever the time.
+                        let s = inst.set_state(&st);
+                        assert_eq!(
+                            s,
+                            Status::Ok,
+                            "{}: a state saved at t = {t} does not restore: {}",
+                            sc.model_identifier,
+                            inst.last_message()
+                        );
                         states.push(st);
                         (Status::Ok, "get state".into())
                     }
@@ -272,6 +426,45 @@ fn c_api_call_sequences_keep_the_invariants() {
                 12 if !states.is_empty() => {
                     let k = rng.below(states.len());
                     (inst.set_state(&states[k]), "set state".into())
+                }
+                16 => {
+                    // A function of Model Exchange on a Co-Simulation instance.
+                    let f = fmu.model_exchange.unwrap();
+                    let c = inst.raw();
+                    let mut x = [0.0; 16];
+                    let (code, name) = unsafe {
+                        match rng.below(6) {
+                            0 => ((f.fmi2GetContinuousStates)(c, x.as_mut_ptr(), 1), "states"),
+                            1 => ((f.fmi2GetDerivatives)(c, x.as_mut_ptr(), 1), "derivatives"),
+                            2 => (
+                                (f.fmi2GetEventIndicators)(c, x.as_mut_ptr(), 1),
+                                "indicators",
+                            ),
+                            3 => (
+                                (f.fmi2GetNominalsOfContinuousStates)(c, x.as_mut_ptr(), 1),
+                                "nominals",
+                            ),
+                            4 => ((f.fmi2SetTime)(c, t), "set time"),
+                            _ => ((f.fmi2EnterEventMode)(c), "event mode"),
+                        }
+                    };
+                    let s = vibrofric_import::status(code);
+                    assert_eq!(
+                        s,
+                        Status::Error,
+                        "{}: Model Exchange's {name} on Co-Simulation",
+                        sc.model_identifier
+                    );
+                    (s, format!("Model Exchange {name}"))
+                }
+                17 => {
+                    let b = if rng.below(2) == 0 { &fr.me2 } else { &fr.cs3 };
+                    let r = inst
+                        .deserialize_state(b)
+                        .map(|st| inst.free_state(st))
+                        .map(|_| ());
+                    let m = inst.last_message();
+                    refuse_foreign(sc, r, &m)
                 }
                 13 if !states.is_empty() => {
                     let k = rng.below(states.len());
@@ -321,7 +514,13 @@ fn c_api_call_sequences_keep_the_invariants() {
                     "get".into(),
                 ),
             };
+            let took = started.elapsed();
             let after = inst.get_real(&vrs);
+            let message = inst.last_message();
+            let staged_after = staged_before
+                .is_some()
+                .then(|| staged2(&mut inst))
+                .flatten();
             oracle.check(
                 sc,
                 &what,
@@ -329,9 +528,11 @@ fn c_api_call_sequences_keep_the_invariants() {
                     status,
                     &[Status::Ok, Status::Warning, Status::Discard, Status::Error],
                 ),
-                started.elapsed(),
+                took,
                 (&vrs, &before, &after),
+                (&staged_before, &staged_after),
                 matches!(op, 12 | 14 | 15),
+                &message,
             );
             if status == Status::Error {
                 // The standard's way out of an error.
@@ -345,7 +546,8 @@ fn c_api_call_sequences_keep_the_invariants() {
                 );
                 t = 0.0;
                 if rng.below(4) != 0 {
-                    init(&mut inst);
+                    t = start_time(&mut rng);
+                    init(&mut inst, t);
                 }
             }
         }
@@ -366,37 +568,42 @@ fn fmi3_call_sequences_keep_the_invariants() {
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
     let fmus: Vec<_> = FILES
         .iter()
-        .map(|f| (load3(f, &format!("fuzz3-{f}")), scene(f)))
+        .map(|f| (load3(f, &format!("fuzz3-{f}")), scene(f), foreign(f, "3")))
         .collect();
     let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 3 | 1);
     let mut calls = 0u64;
     let mut oracle = Oracle::default();
     while calls < budget {
-        let (fmu, sc) = &fmus[rng.below(fmus.len())];
+        let (fmu, sc, fr) = &fmus[rng.below(fmus.len())];
         let vrs = all_vrs(sc);
         let starts: Vec<f64> = sc
             .variables()
             .map(|v| sc.start_of(v).unwrap_or(1.0))
             .collect();
         let mut inst = fmu.instantiate("fuzz3").unwrap();
-        let init = |inst: &mut vibrofric_import::fmi3::Instance3| {
-            inst.enter_initialization_mode(Some(1e-6), 0.0, None);
+        let init = |inst: &mut vibrofric_import::fmi3::Instance3, t0: f64| {
+            inst.enter_initialization_mode(Some(1e-6), t0, None);
             inst.exit_initialization_mode();
         };
-        if rng.below(4) != 0 {
-            init(&mut inst);
-        }
         let mut t = 0.0;
+        if rng.below(4) != 0 {
+            t = start_time(&mut rng);
+            init(&mut inst, t);
+        }
         let (mut states, mut saved) = (vec![], vec![]);
         for _ in 0..rng.below(200) + 1 {
             calls += 1;
             let before = inst.get_f64(&vrs).ok();
-            let op = rng.pick(&[0, 1, 2, 2, 3, 3, 3, 4, 5, 6, 7, 8, 2, 3]);
+            let staged_before = before.is_none().then(|| staged3(&mut inst)).flatten();
+            let op = rng.pick(&[0, 1, 2, 2, 3, 3, 3, 4, 5, 6, 7, 8, 2, 3, 9]);
             let started = Instant::now();
             let (status, what) = match op {
                 0 => {
                     let tol = rng.pick(&[Some(1e-6), Some(5e-324), None, Some(f64::NAN)]);
-                    let t0 = rng.pick(&[0.0, 1e9, f64::NAN]);
+                    let t0 = match rng.below(2) {
+                        0 => rng.pick(&[0.0, 1e9, f64::NAN]),
+                        _ => start_time(&mut rng),
+                    };
                     t = t0;
                     (
                         inst.enter_initialization_mode(tol, t0, None),
@@ -414,7 +621,7 @@ fn fmi3_call_sequences_keep_the_invariants() {
                     (inst.set_f64(&[vr], &[x]), format!("set vr {vr} = {x:e}"))
                 }
                 3 => {
-                    let h = rng.pick(&[1e-3, 1e-4, 1e-2, 0.0, -1e-3, f64::NAN]);
+                    let h = rng.pick(&[1e-3, 1e-4, 1e-2, 0.0, -1e-3, f64::NAN, 5e-4, 2.5e-3]);
                     let current = if rng.below(8) == 0 { t + 1.0 } else { t };
                     let (s, _) = inst.do_step(current, h);
                     if s == Status::Ok {
@@ -424,6 +631,14 @@ fn fmi3_call_sequences_keep_the_invariants() {
                 }
                 4 => match inst.get_state() {
                     Ok(st) => {
+                        let s = inst.set_state(&st);
+                        assert_eq!(
+                            s,
+                            Status::Ok,
+                            "{}: a state saved at t = {t} does not restore: {}",
+                            sc.model_identifier,
+                            inst.last_message()
+                        );
                         states.push(st);
                         (Status::Ok, "get state".into())
                     }
@@ -458,6 +673,15 @@ fn fmi3_call_sequences_keep_the_invariants() {
                     }
                 }
                 7 => (inst.terminate(), "terminate".into()),
+                9 => {
+                    let b = if rng.below(2) == 0 { &fr.cs2 } else { &fr.me2 };
+                    let r = inst
+                        .deserialize_state(b)
+                        .map(|st| inst.free_state(st))
+                        .map(|_| ());
+                    let m = inst.last_message();
+                    refuse_foreign(sc, r, &m)
+                }
                 8 => {
                     t = 0.0;
                     (inst.reset(), "reset".into())
@@ -467,7 +691,13 @@ fn fmi3_call_sequences_keep_the_invariants() {
                     "get".into(),
                 ),
             };
+            let took = started.elapsed();
             let after = inst.get_f64(&vrs);
+            let message = inst.last_message();
+            let staged_after = staged_before
+                .is_some()
+                .then(|| staged3(&mut inst))
+                .flatten();
             oracle.check(
                 sc,
                 &what,
@@ -475,9 +705,11 @@ fn fmi3_call_sequences_keep_the_invariants() {
                     status,
                     &[Status::Ok, Status::Warning, Status::Discard, Status::Error],
                 ),
-                started.elapsed(),
+                took,
                 (&vrs, &before, &after),
+                (&staged_before, &staged_after),
                 matches!(op, 5 | 6 | 8),
+                &message,
             );
             if status == Status::Error {
                 let s = inst.reset();
@@ -490,7 +722,8 @@ fn fmi3_call_sequences_keep_the_invariants() {
                 );
                 t = 0.0;
                 if rng.below(4) != 0 {
-                    init(&mut inst);
+                    t = start_time(&mut rng);
+                    init(&mut inst, t);
                 }
             }
         }
@@ -578,13 +811,13 @@ fn model_exchange_call_sequences_keep_the_invariants() {
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
     let fmus: Vec<_> = FILES
         .iter()
-        .map(|f| (load(f, &format!("fuzz-me-{f}")), scene(f)))
+        .map(|f| (load(f, &format!("fuzz-me-{f}")), scene(f), foreign(f, "me")))
         .collect();
     let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 3);
     let mut calls = 0u64;
     let mut oracle = Oracle::default();
     while calls < budget {
-        let (fmu, sc) = &fmus[rng.below(fmus.len())];
+        let (fmu, sc, fr) = &fmus[rng.below(fmus.len())];
         let vrs = all_vrs(sc);
         let starts: Vec<f64> = sc
             .variables()
@@ -597,28 +830,33 @@ fn model_exchange_call_sequences_keep_the_invariants() {
         let ni = sc.config.event_indicators();
         let mut inst = fmu.instantiate_model_exchange("fuzz-me").unwrap();
         let mut t = 0.0;
-        let init = |inst: &mut vibrofric_import::Instance| {
-            inst.setup_experiment(Some(1e-6), 0.0, None);
+        let init = |inst: &mut vibrofric_import::Instance, t0: f64| {
+            inst.setup_experiment(Some(1e-6), t0, None);
             inst.enter_initialization_mode();
             inst.exit_initialization_mode();
             inst.new_discrete_states();
             inst.enter_continuous_time_mode();
         };
         if rng.below(4) != 0 {
-            init(&mut inst);
+            t = start_time(&mut rng);
+            init(&mut inst, t);
         }
         let mut states = vec![];
         let mut saved: Vec<Vec<u8>> = vec![];
         for _ in 0..rng.below(200) + 1 {
             calls += 1;
             let before = inst.get_real(&vrs).ok();
+            let staged_before = before.is_none().then(|| staged2(&mut inst)).flatten();
             let op = rng.pick(&[
-                0, 1, 2, 3, 4, 5, 6, 6, 7, 7, 8, 8, 9, 10, 11, 12, 13, 14, 15,
+                0, 1, 2, 3, 4, 5, 6, 6, 7, 7, 8, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
             ]);
             let started = Instant::now();
             let (status, what) = match op {
                 0 => {
-                    let t0 = rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]);
+                    let t0 = match rng.below(2) {
+                        0 => rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]),
+                        _ => start_time(&mut rng),
+                    };
                     t = t0;
                     (
                         inst.setup_experiment(Some(1e-6), t0, None),
@@ -643,11 +881,15 @@ fn model_exchange_call_sequences_keep_the_invariants() {
                     _ => (inst.completed_integrator_step(), "completed step".into()),
                 },
                 6 => {
+                    let far = 5e-4 * 10f64.powf(4.0 * rng.unit());
                     let next = rng.pick(&[
                         t + 1e-5,
                         t + 2.5e-4,
                         t + 1e-3,
                         t - 1e-4,
+                        // Anywhere within or beyond the window in progress, before it.
+                        t + far,
+                        t - far,
                         1e300,
                         -1e300,
                         f64::NAN,
@@ -661,9 +903,11 @@ fn model_exchange_call_sequences_keep_the_invariants() {
                 }
                 7 => {
                     let n = if rng.below(10) == 0 { nx + 1 } else { nx };
+                    // Near the trajectory, at the edges, or far from any trajectory.
                     let x: Vec<f64> = (0..n)
-                        .map(|_| match rng.below(3) {
+                        .map(|_| match rng.below(4) {
                             0 => rng.pick(&EDGES),
+                            1 => 10f64.powf(-8.0 + 10.0 * rng.unit()) * rng.pick(&[1.0, -1.0]),
                             _ => 1e-7 * (rng.unit() - 0.5),
                         })
                         .collect();
@@ -722,6 +966,14 @@ fn model_exchange_call_sequences_keep_the_invariants() {
                 }
                 11 => match inst.get_state() {
                     Ok(st) => {
+                        let s = inst.set_state(&st);
+                        assert_eq!(
+                            s,
+                            Status::Ok,
+                            "{}: a state saved at t = {t} does not restore: {}",
+                            sc.model_identifier,
+                            inst.last_message()
+                        );
                         states.push(st);
                         (Status::Ok, "get state".into())
                     }
@@ -764,19 +1016,69 @@ fn model_exchange_call_sequences_keep_the_invariants() {
                         (inst.reset(), "reset".into())
                     }
                 }
+                16 => {
+                    // A function of Co-Simulation on a Model Exchange instance.
+                    let (s, name) = match rng.below(5) {
+                        0 => (inst.do_step(t, 1e-3), "do_step"),
+                        1 => (
+                            inst.set_real_input_derivatives(
+                                &[vrs[rng.below(vrs.len())]],
+                                &[1],
+                                &[1.0],
+                            ),
+                            "input derivative",
+                        ),
+                        2 => (inst.get_real_status(2).0, "real status"),
+                        3 => (inst.get_boolean_status(3).0, "boolean status"),
+                        _ => (
+                            vibrofric_import::status(unsafe {
+                                (fmu.functions.fmi2CancelStep)(inst.raw())
+                            }),
+                            "cancel step",
+                        ),
+                    };
+                    assert_eq!(
+                        s,
+                        Status::Error,
+                        "{}: Co-Simulation's {name} on Model Exchange",
+                        sc.model_identifier
+                    );
+                    (s, format!("Co-Simulation {name}"))
+                }
+                17 => {
+                    let b = if rng.below(2) == 0 { &fr.cs2 } else { &fr.cs3 };
+                    let r = inst
+                        .deserialize_state(b)
+                        .map(|st| inst.free_state(st))
+                        .map(|_| ());
+                    let m = inst.last_message();
+                    refuse_foreign(sc, r, &m)
+                }
                 _ => (
                     inst.get_real(&vrs).map_or_else(|s| s, |_| Status::Ok),
                     "get".into(),
                 ),
             };
+            let took = started.elapsed();
             let after = inst.get_real(&vrs);
+            let message = inst.last_message();
+            let staged_after = staged_before
+                .is_some()
+                .then(|| staged2(&mut inst))
+                .flatten();
             oracle.check(
                 sc,
                 &what,
-                (status, &[Status::Ok, Status::Warning, Status::Error]),
-                started.elapsed(),
+                // Discard: an evaluation outside the model's domain.
+                (
+                    status,
+                    &[Status::Ok, Status::Warning, Status::Discard, Status::Error],
+                ),
+                took,
                 (&vrs, &before, &after),
+                (&staged_before, &staged_after),
                 matches!(op, 12 | 14 | 15),
+                &message,
             );
             if status == Status::Error {
                 let s = inst.reset();
@@ -789,7 +1091,8 @@ fn model_exchange_call_sequences_keep_the_invariants() {
                 );
                 t = 0.0;
                 if rng.below(4) != 0 {
-                    init(&mut inst);
+                    t = start_time(&mut rng);
+                    init(&mut inst, t);
                 }
             }
         }

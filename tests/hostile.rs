@@ -151,3 +151,244 @@ fn instantiate_refuses_with_a_log_line() {
         );
     }
 }
+
+/// Every value inside a documented range evaluates to finite outputs, also at the edges of
+/// floating point: a Coulomb force `mu·F_N` down to the smallest subnormal (where
+/// `1 − F_mean/F_C` overflowed and fmi2GetReal failed), a tiny normal force input with a steep
+/// derivative, and a relaxation rate `|v_r|/s_ss` that overflowed to a NaN derivative.
+#[test]
+fn accepted_values_at_the_edges_of_floating_point_evaluate() {
+    use fmi_harness::{all_vrs, load, started, vr};
+    use vibrofric_import::Status;
+    let cases: [(&str, &[(u32, f64)]); 12] = [
+        ("drill-string-axial.toml", &[(vr::F_N, 1.5e-323)]),
+        ("drill-string-axial.toml", &[(vr::F_N, 1e-310)]),
+        ("drill-string-axial.toml", &[(vr::F_N, 1.5e-307)]),
+        ("drill-string-axial.toml", &[(vr::MU, 5e-324)]),
+        ("contact-lugre.toml", &[(vr::F_N, 5e-324)]),
+        ("contact-lugre.toml", &[(vr::MU, 1e-300)]),
+        ("contact.toml", &[(vr::MU, 1e-300), (vr::V_SY, -1000.0)]),
+        (
+            "contact-dupont.toml",
+            &[(vr::MU, 1e-300), (vr::V_SY, -1000.0)],
+        ),
+        ("paper-longitudinal.toml", &[(vr::F_N, 5e-324)]),
+        ("paper-longitudinal.toml", &[(vr::MU, 1e-295)]),
+        ("paper-transverse.toml", &[(vr::MU, 1e-300)]),
+        ("rig-transverse.toml", &[(vr::F_N, 1e-308)]),
+    ];
+    for (file, init) in cases {
+        let sc = scene(file);
+        let vrs = all_vrs(&sc);
+        let fmu = load(file, &format!("edges-{file}"));
+        let mut i = started(&fmu, "edges", init);
+        for k in 0..3 {
+            let t = k as f64 * 1e-3;
+            assert_eq!(
+                i.do_step(t, 1e-3),
+                Status::Ok,
+                "{file} {init:?}: {}",
+                i.last_message()
+            );
+            let v = i.get_real(&vrs);
+            assert!(v.is_ok(), "{file} {init:?}: {}", i.last_message());
+            assert!(v.unwrap().iter().all(|x| x.is_finite()), "{file} {init:?}");
+        }
+        // Under the velocity drive a Coulomb force that acts as none has no reduction.
+        if sc.has_vr(vr::REDUCTION) {
+            assert_eq!(
+                i.get_real(&[vr::REDUCTION]).unwrap(),
+                [0.0],
+                "{file} {init:?}"
+            );
+        }
+    }
+    // The normal force input 1e-308 N with a derivative of 1e6 N/s over a step.
+    let file = "drill-string-contact.toml";
+    let vrs = all_vrs(&scene(file));
+    let fmu = load(file, "edges-input");
+    let mut i = started(&fmu, "edges", &[]);
+    assert_eq!(i.set_real(&[vr::F_N], &[1e-308]), Status::Ok);
+    assert_eq!(
+        i.set_real_input_derivatives(&[vr::F_N], &[1], &[1e6]),
+        Status::Ok
+    );
+    assert_eq!(i.do_step(0.0, 1e-3), Status::Ok, "{}", i.last_message());
+    let v = i.get_real(&vrs);
+    assert!(v.is_ok(), "{}", i.last_message());
+    assert!(v.unwrap().iter().all(|x| x.is_finite()));
+}
+
+/// `reduction` is an output of the velocity drive only: under force and spring drives a stuck
+/// body with no vibration would read `1 − F_d/F_C` (0.975 on the default scene), a reduction
+/// the vibration did not cause.
+#[test]
+fn reduction_is_offered_only_under_the_velocity_drive() {
+    use vibrofric::table::{Drive, OutputId};
+    for file in std::fs::read_dir("scenes").unwrap() {
+        let path = file.unwrap().path();
+        if path.extension().is_none_or(|x| x != "toml") {
+            continue;
+        }
+        let sc = Scene::load(&path).unwrap();
+        assert_eq!(
+            sc.outputs.contains(&OutputId::Reduction),
+            sc.config.drive == Drive::Velocity,
+            "{}",
+            path.display()
+        );
+    }
+    let fmu = fmi_harness::load("contact.toml", "no-reduction");
+    let mut i = fmi_harness::started(&fmu, "r", &[(fmi_harness::vr::U0, 0.0)]);
+    assert!(i.get_real(&[fmi_harness::vr::REDUCTION]).is_err());
+    assert!(
+        i.last_message().contains("is not a variable of this FMU"),
+        "{}",
+        i.last_message()
+    );
+}
+
+/// Model Exchange: states set far from any trajectory (a deformation far beyond what the law
+/// holds) are outside the model's domain: the evaluations answer fmi2Discard naming the states,
+/// nothing changes, and the instance goes on (set time, other states, terminate). They used to
+/// answer fmi2Error ("P_diss evaluates to inf"), after which fmi2SetTime and fmi2Terminate were
+/// refused, or evaluate absurd values with fmi2OK.
+#[test]
+fn model_exchange_states_far_from_any_trajectory_are_discarded() {
+    use fmi_harness::{all_vrs, bits, load, vr};
+    use vibrofric::description::variables::VarKind;
+    use vibrofric_import::Status;
+    for file in [
+        "contact.toml",
+        "contact-lugre.toml",
+        "contact-dupont.toml",
+        "drill-string-axial.toml",
+        "drill-string-contact.toml",
+        "paper-longitudinal.toml",
+        "paper-transverse.toml",
+        "paper-transverse-guided.toml",
+        "rig-longitudinal.toml",
+        "rig-transverse.toml",
+    ] {
+        let sc = scene(file);
+        let vrs = all_vrs(&sc);
+        let nx = sc
+            .variables()
+            .filter(|v| matches!(v.kind, VarKind::State(_)))
+            .count();
+        let ni = sc.config.event_indicators();
+        let fmu = load(file, &format!("domain-{file}"));
+        let mut i = fmu.instantiate_model_exchange("domain").unwrap();
+        assert_eq!(i.enter_initialization_mode(), Status::Ok);
+        assert_eq!(i.exit_initialization_mode(), Status::Ok);
+        assert_eq!(i.new_discrete_states().0, Status::Ok);
+        assert_eq!(i.enter_continuous_time_mode(), Status::Ok);
+        let good = i.get_derivatives(nx).unwrap();
+        let outputs = i.get_real(&vrs).unwrap();
+        let mut states = vec![0.0; nx];
+        let f = fmu.model_exchange.unwrap();
+        assert_eq!(
+            unsafe { (f.fmi2GetContinuousStates)(i.raw(), states.as_mut_ptr(), nx) },
+            0
+        );
+        // The first state is the deformation s_x: 1 m, where the law holds about 1e-7 m.
+        let mut far = states.clone();
+        far[0] = 1.0;
+        assert_eq!(i.set_continuous_states(&far), Status::Ok);
+        assert_eq!(i.get_derivatives(nx).err(), Some(Status::Discard), "{file}");
+        let msg = i.last_message();
+        assert!(
+            msg.contains("outside the model's domain") && msg.contains("s_x = 1e0"),
+            "{file}: {msg}"
+        );
+        assert_eq!(
+            i.get_event_indicators(ni).err(),
+            Some(Status::Discard),
+            "{file}"
+        );
+        assert_eq!(
+            i.get_real(&[vr::F_FX]).err(),
+            Some(Status::Discard),
+            "{file}"
+        );
+        // Parameters and inputs still read; the instance goes on.
+        assert!(i.get_real(&[vr::MU]).is_ok());
+        assert_eq!(i.set_time(1e-4), Status::Ok, "{file}: {}", i.last_message());
+        assert_eq!(i.set_time(0.0), Status::Ok);
+        // Back on the trajectory, the same evaluations as before the excursion.
+        assert_eq!(i.set_continuous_states(&states), Status::Ok);
+        assert_eq!(bits(&i.get_derivatives(nx).unwrap()), bits(&good), "{file}");
+        assert_eq!(bits(&i.get_real(&vrs).unwrap()), bits(&outputs), "{file}");
+        assert_eq!(i.terminate(), Status::Ok, "{file}: {}", i.last_message());
+    }
+}
+
+/// An importer's unstable integrator (forward Euler with a 1 ms step, fmusim's default, on a
+/// contact whose relaxation takes microseconds) runs off every trajectory: the FMU answers
+/// fmi2Discard within a few steps, naming the states, instead of evaluating ever larger
+/// values with fmi2OK (`P_diss` off by 1e63) or failing with fmi2Error.
+#[test]
+fn an_unstable_importer_integration_is_discarded_within_a_few_steps() {
+    use fmi_harness::{load, vr};
+    use vibrofric::description::variables::VarKind;
+    use vibrofric_import::Status;
+    for file in [
+        "paper-longitudinal.toml",
+        "paper-transverse-guided.toml",
+        "contact.toml",
+    ] {
+        let sc = scene(file);
+        let nx = sc
+            .variables()
+            .filter(|v| matches!(v.kind, VarKind::State(_)))
+            .count();
+        let fmu = load(file, &format!("euler-{file}"));
+        let mut i = fmu.instantiate_model_exchange("euler").unwrap();
+        assert_eq!(i.setup_experiment(None, 0.0, None), Status::Ok);
+        assert_eq!(i.enter_initialization_mode(), Status::Ok);
+        assert_eq!(i.exit_initialization_mode(), Status::Ok);
+        assert_eq!(i.new_discrete_states().0, Status::Ok);
+        assert_eq!(i.enter_continuous_time_mode(), Status::Ok);
+        let f = fmu.model_exchange.unwrap();
+        let mut x = vec![0.0; nx];
+        assert_eq!(
+            unsafe { (f.fmi2GetContinuousStates)(i.raw(), x.as_mut_ptr(), nx) },
+            0
+        );
+        let (h, mut t) = (1e-3, 0.0);
+        let mut discarded = None;
+        for k in 0..1000 {
+            let dx = match i.get_derivatives(nx) {
+                Ok(dx) => dx,
+                Err(s) => {
+                    assert_eq!(s, Status::Discard, "{file}: {}", i.last_message());
+                    discarded = Some(k);
+                    break;
+                }
+            };
+            match i.get_real(&[vr::F_FX]) {
+                // The friction force stays within what the law's bound allows times the
+                // domain's margin.
+                Ok(v) => assert!(
+                    v[0].abs() <= 1e3 * 1e3,
+                    "{file}: F_Fx = {} at step {k}",
+                    v[0]
+                ),
+                Err(s) => assert_eq!(s, Status::Discard),
+            }
+            for (xk, dk) in x.iter_mut().zip(&dx) {
+                *xk += h * dk;
+            }
+            t += h;
+            assert_eq!(i.set_time(t), Status::Ok);
+            assert_eq!(i.set_continuous_states(&x), Status::Ok);
+            assert_eq!(i.completed_integrator_step(), Status::Ok);
+        }
+        let k = discarded.unwrap_or_else(|| panic!("{file}: no discard in 1000 Euler steps"));
+        assert!(k <= 20, "{file}: discarded only at step {k}");
+        assert!(i.last_message().contains("s_x = "), "{}", i.last_message());
+        // The instance is still usable: the time moves on, it terminates.
+        assert_eq!(i.set_time(t + h), Status::Ok);
+        assert_eq!(i.terminate(), Status::Ok, "{}", i.last_message());
+    }
+}

@@ -193,4 +193,4 @@ def test_interfaces_not_offered_say_so(slave3, capfd):
     with pytest.raises(FMICallException):
         fmu.enterEventMode()
     out = capfd.readouterr().out
-    assert "a function of Model Exchange, and this instance was instantiated for Co-Simulation" in out, out
+    assert "a function of Model Exchange only, and this instance was instantiated for Co-Simulation" in out, out

@@ -371,7 +371,7 @@ def test_fmi3_counts_states_and_event_indicators_and_refuses_bad_input(capfd):
             *[ctypes.byref(b) for b in flags], ctypes.byref(last))
         assert status == 3  # fmi3Error
         out = capfd.readouterr().out
-        assert "a function of Co-Simulation, and this instance was instantiated for Model Exchange" in out, out
+        assert "a function of Co-Simulation only, and this instance was instantiated for Model Exchange" in out, out
     finally:
         m.close()
 

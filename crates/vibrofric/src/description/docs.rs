@@ -160,7 +160,12 @@ fn equations(scene: &Scene) -> Vec<String> {
     } else {
         "<code>T_avg</code>"
     };
-    eq.push(format!("<code>F_mean</code>: exact mean of <code>F_Fx</code> over the most recently completed averaging window (Eq. 11), {window}; the mean since start until a first window completes. <code>reduction = 1 − F_mean/F_C</code>: the fraction by which the vibration lowers the mean friction (0: no reduction, also when F_C = 0; 0.6: 60 % less friction)."));
+    let reduction = if c.drive == Drive::Velocity {
+        " <code>reduction = 1 − F_mean/F_C</code>: the fraction by which the vibration lowers the mean friction of the body driven at <code>v_d</code> (0: no reduction, also where the Coulomb force is negligible, F_C/k_t ≤ 1e-290 m; 0.6: 60 % less friction)."
+    } else {
+        " This drive has no <code>reduction</code> output: the drive sets the friction a body meets while it sticks, so a mean friction below F_C is no reduction the vibration caused; compare <code>F_mean</code> with a run without the vibration (or use a velocity-driven scene)."
+    };
+    eq.push(format!("<code>F_mean</code>: exact mean of <code>F_Fx</code> over the most recently completed averaging window (Eq. 11), {window}; the mean since start until a first window completes.{reduction}"));
     eq.push("<code>P_diss = F_F·v_r − d(k_t·|s|²/2)/dt</code>: the power dissipated in the contact (never negative for Dahl and Dupont).".to_string());
     eq.push("<code>F_Fx_step</code>, <code>F_Fy_step</code>: the exact mean of each friction component over the last communication step, <code>∫F dt/h</code>: the impulse a host that integrates the body itself applies, without sampling a force that vibrates between its samples. First-order output derivatives (<code>fmi2GetRealOutputDerivatives</code>) are exact for <code>x</code>, <code>y</code>, <code>v_x</code>, <code>v_y</code>, <code>s_x</code>, <code>s_y</code> and the step means (as moving means over the last step).".to_string());
     if c.normal_input {

@@ -401,7 +401,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
 /// none describes fails the generation (add its condition here).
 type Condition = (&'static str, fn(&crate::table::Config) -> bool);
 
-const CONDITIONS: [Condition; 16] = [
+const CONDITIONS: [Condition; 17] = [
     ("every scene", |_| true),
     ("law `\"dahl\"`", |c| c.law == Law::Dahl),
     ("law `\"dupont\"`", |c| c.law == Law::Dupont),
@@ -412,6 +412,7 @@ const CONDITIONS: [Condition; 16] = [
     }),
     ("drive `\"force\"`", |c| c.drive == Drive::Force),
     ("drive `\"spring\"`", |c| c.drive == Drive::Spring),
+    ("drive `\"velocity\"`", |c| c.drive == Drive::Velocity),
     ("drive `\"velocity\"` or `\"spring\"`", |c| {
         c.drive != Drive::Force
     }),

@@ -923,9 +923,11 @@ v_d = 5e-4
         assert_eq!(s.start, Params::default());
         assert_eq!(s.inputs, default_inputs());
         assert_eq!(s.description, summary(&s.config));
+        // The default scene is force-driven: no F_d output (the spring's) and no reduction
+        // (the velocity drive's).
         let all: Vec<_> = OutputId::ALL
             .into_iter()
-            .filter(|o| *o != OutputId::FDrive)
+            .filter(|o| ![OutputId::FDrive, OutputId::Reduction].contains(o))
             .collect();
         assert_eq!(s.outputs, all);
         let spring = Scene::parse(&planar("", "").replace("force", "spring"), "x.toml").unwrap();

@@ -46,6 +46,8 @@ pub struct Instance {
     /// Simulator built from the staged values to answer `fmi2GetReal` before the real one
     /// exists; dropped whenever a staged value changes.
     pub(super) provisional: Option<Box<dyn Simulator>>,
+    /// The call that put the instance in `Error`, and why (cleared when it leaves `Error`).
+    error_cause: Option<String>,
 }
 
 impl Instance {
@@ -135,6 +137,7 @@ impl Instance {
             categories: [logging_on; 4],
             sim: None,
             provisional: None,
+            error_cause: None,
         };
         inst.event(|| {
             format!(
@@ -198,14 +201,28 @@ impl Instance {
         }
     }
 
-    /// Logs `f: msg` as an error and enters the `Error` state.
+    /// Logs `f: msg` as an error and enters the `Error` state, remembering which call put
+    /// the instance there (for the messages of the calls refused afterwards).
     pub(super) fn fail(&mut self, f: &str, msg: impl Display) -> Status {
+        let msg = msg.to_string();
         self.log(
             Status::Error,
             Category::StatusError,
             &format!("{f}: {msg} [instance \"{}\"]", self.name),
         );
-        if self.st.state != State::Fatal {
+        if !matches!(self.st.state, State::Fatal | State::Error) {
+            // The first clause of the message says what went wrong; the rest is advice.
+            let what: String = msg
+                .split("; ")
+                .next()
+                .unwrap_or("")
+                .chars()
+                .take(200)
+                .collect();
+            self.error_cause = Some(format!(
+                "{f} in state {} (\"{what}\")",
+                self.st.state.name()
+            ));
             self.st.state = State::Error;
         }
         Status::Error
@@ -221,31 +238,41 @@ impl Instance {
         Status::Discard
     }
 
-    /// Checks that `call` may be made in the current state.
+    /// Checks that `call` may be made by this instance (a function of its interface, or one
+    /// common to both) and in its current state.
     pub(crate) fn allow(&mut self, call: Call) -> Result<(), Status> {
+        if let Some(only) = call.only {
+            if only != self.interface {
+                return Err(self.fail(
+                    call.name,
+                    format!(
+                        "a function of {} only, and this instance was instantiated for {}: an instance answers only the functions of its own interface ({}); illegal call sequence",
+                        only.name(),
+                        self.interface.name(),
+                        call.words.edition
+                    ),
+                ));
+            }
+        }
         if call.allowed.contains(self.st.state) {
             return Ok(());
         }
         let state = self.st.state;
-        // A function of the other interface says so.
-        let of = |states: &[State]| states.iter().any(|s| call.allowed.contains(*s));
-        let (cs, me) = (
-            of(&[State::StepComplete, State::StepFailed]),
-            of(&[State::EventMode, State::ContinuousTimeMode]),
-        );
-        let interface = match (self.interface, cs, me) {
-            (Interface::CoSimulation, false, true) => {
-                "; a function of Model Exchange, and this instance was instantiated for Co-Simulation"
-            }
-            (Interface::ModelExchange, true, false) => {
-                "; a function of Co-Simulation, and this instance was instantiated for Model Exchange"
-            }
-            _ => "",
+        let cause = match (state, &self.error_cause) {
+            (State::Error, Some(cause)) => format!(
+                "; the instance entered Error at {cause}; {} recovers it (or {} with a state saved before)",
+                call.words.reset, call.words.set_state
+            ),
+            (State::Error, None) => format!(
+                "; the state was restored in Error; {} recovers it (or {} with a state saved before the error)",
+                call.words.reset, call.words.set_state
+            ),
+            _ => String::new(),
         };
         Err(self.fail(
             call.name,
             format!(
-                "not allowed in state {} (allowed in: {}); illegal call sequence{interface}",
+                "not allowed in state {} (allowed in: {}); illegal call sequence{cause}",
                 state.name(),
                 call.allowed.names()
             ),
@@ -430,6 +457,7 @@ impl Instance {
         self.st = Staged::initial(&self.scene);
         self.sim = None;
         self.provisional = None;
+        self.error_cause = None;
         self.event(|| format!("{f}: start values restored"));
         Status::Ok
     }
@@ -507,7 +535,16 @@ impl Instance {
         let mut outputs = Outputs::default();
         let (mut states, mut derivatives) = ([0.0; StateId::COUNT], [0.0; StateId::COUNT]);
         let mut indicators = [0.0; IndicatorId::ALL.len()];
+        let exchange = self.interface == Interface::ModelExchange;
         if need_outputs || need_states || need_derivatives || need_indicators {
+            if let Err(e) = self.simulator_now() {
+                return self.fail(f, e);
+            }
+            if exchange && (need_outputs || need_derivatives || need_indicators) {
+                if let Some(s) = self.out_of_domain(call, None) {
+                    return s;
+                }
+            }
             let sim = match self.simulator_now() {
                 Ok(sim) => sim,
                 Err(e) => return self.fail(f, e),
@@ -543,6 +580,12 @@ impl Instance {
         // arises; this is the last guard).
         if let Some((v, x)) = vars.iter().zip(values.iter()).find(|(_, x)| !x.is_finite()) {
             let (name, x) = (v.name(), *x);
+            if exchange {
+                if let Some(s) = self.out_of_domain(call, Some(format!("{name} evaluates to {x}")))
+                {
+                    return s;
+                }
+            }
             return self.fail(f, format!("{name} evaluates to {x}: a parameter or input is beyond what the model can compute; restore a state with {}", call.words.set_state));
         }
         Status::Ok
@@ -901,6 +944,9 @@ impl Instance {
     /// `fmi2CancelStep`: steps are synchronous, so there is never one to cancel.
     pub fn cancel_step(&mut self, call: Call) -> Status {
         let f = call.name;
+        if let Err(s) = self.allow(call) {
+            return s;
+        }
         let state = self.st.state;
         self.fail(
             f,
@@ -927,6 +973,8 @@ impl Instance {
         self.allow(call)?;
         let s = FmuState {
             guid: self.guid.clone(),
+            interface: self.interface,
+            edition: call.words.edition.to_string(),
             staged: self.st,
             sim: self.sim.as_ref().map(|s| s.snapshot()),
         };
@@ -940,12 +988,22 @@ impl Instance {
         Ok(s)
     }
 
-    /// Builds the simulator a state holds; nothing is changed.
-    fn simulator_of(&self, s: &FmuState) -> Result<Option<Box<dyn Simulator>>, String> {
+    /// Builds the simulator a state holds; nothing is changed. A state restores only into an
+    /// instance of the FMU, the standard's edition and the interface that saved it.
+    fn simulator_of(&self, call: Call, s: &FmuState) -> Result<Option<Box<dyn Simulator>>, String> {
         if s.guid != self.guid {
             return Err(format!(
                 "the state belongs to the FMU with GUID {}, this instance is {}",
                 s.guid, self.guid
+            ));
+        }
+        if s.interface != self.interface || s.edition != call.words.edition {
+            return Err(format!(
+                "the state was saved by an {} {} instance and this instance is {} {}: a state restores only into an instance of the interface and edition that saved it (their state machines differ)",
+                s.edition,
+                s.interface.name(),
+                call.words.edition,
+                self.interface.name()
             ));
         }
         match &s.sim {
@@ -958,7 +1016,11 @@ impl Instance {
                     s.staged.tolerance(),
                 )
                 .map_err(|e| e.to_string())?;
-                sim.restore(snap).map_err(|e| e.to_string())?;
+                match s.interface {
+                    Interface::CoSimulation => sim.restore(snap),
+                    Interface::ModelExchange => sim.restore_exchange(snap),
+                }
+                .map_err(|e| e.to_string())?;
                 Ok(Some(sim))
             }
         }
@@ -970,11 +1032,12 @@ impl Instance {
         if let Err(st) = self.allow(call) {
             return st;
         }
-        match self.simulator_of(s) {
+        match self.simulator_of(call, s) {
             Ok(sim) => {
                 self.st = s.staged;
                 self.sim = sim;
                 self.provisional = None;
+                self.error_cause = None;
                 self.event(|| {
                     format!(
                         "{f}: restored state {} at t = {}",
@@ -1002,7 +1065,7 @@ impl Instance {
             Ok(s) => s,
             Err(e) => return Err(self.fail(f, e)),
         };
-        if let Err(e) = self.simulator_of(&s) {
+        if let Err(e) = self.simulator_of(call, &s) {
             return Err(self.fail(f, e));
         }
         Ok(s)

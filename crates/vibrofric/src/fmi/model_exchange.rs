@@ -34,6 +34,39 @@ impl Instance {
         Ok(())
     }
 
+    /// The continuous states now, `name = value`, for the messages of an out-of-domain
+    /// evaluation.
+    fn states_text(&self, sim: &dyn crate::model::Simulator) -> String {
+        let x = sim.states();
+        self.states
+            .iter()
+            .map(|id| format!("{} = {:e}", id.name(), x[id.index()]))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// Model Exchange: an evaluation outside the model's domain (states far from any
+    /// trajectory, or a value that evaluates non-finite) is a discard, so that the importer's
+    /// integrator can retry with a shorter step; the instance stays in its state. `what`
+    /// names what is out of domain; `None` checks the states' domain.
+    pub(super) fn out_of_domain(&mut self, call: Call, what: Option<String>) -> Option<Status> {
+        let (why, states) = {
+            let sim = self.sim.as_deref().or(self.provisional.as_deref())?;
+            let why = match what {
+                Some(w) => w,
+                None => sim.out_of_domain()?,
+            };
+            (why, self.states_text(sim))
+        };
+        Some(self.discard(
+            call.name,
+            format!(
+                "outside the model's domain at t = {}: {why}; the continuous states were {states}; nothing changed: set states nearer the solution (a shorter integrator step) and evaluate again",
+                self.time()
+            ),
+        ))
+    }
+
     fn state_names(&self) -> String {
         self.states
             .iter()
@@ -98,6 +131,7 @@ impl Instance {
         call: Call,
         arg: &str,
         out: &mut [f64],
+        evaluates: bool,
         of: impl Fn(&dyn crate::model::Simulator) -> StateVector,
     ) -> Status {
         if let Err(s) = self.check_states_len(call, arg, out.len()) {
@@ -107,6 +141,11 @@ impl Instance {
             Ok(sim) => of(sim),
             Err(e) => return self.fail(call.name, e),
         };
+        if evaluates {
+            if let Some(s) = self.out_of_domain(call, None) {
+                return s;
+            }
+        }
         for (id, o) in self.states.iter().zip(out.iter_mut()) {
             *o = values[id.index()];
         }
@@ -117,12 +156,13 @@ impl Instance {
             .find(|(_, x)| !x.is_finite())
         {
             let (name, x) = (id.name(), *x);
+            let what = format!("{name}: evaluates to {x}");
+            if let Some(s) = self.out_of_domain(call, Some(what.clone())) {
+                return s;
+            }
             return self.fail(
                 call.name,
-                format!(
-                    "{name}: evaluates to {x}; restore a state with {}",
-                    call.words.set_state
-                ),
+                format!("{what}; restore a state with {}", call.words.set_state),
             );
         }
         Status::Ok
@@ -130,17 +170,17 @@ impl Instance {
 
     /// `fmi2GetContinuousStates`.
     pub fn get_continuous_states(&mut self, call: Call, out: &mut [f64]) -> Status {
-        self.state_values(call, "nx", out, |s| s.states())
+        self.state_values(call, "nx", out, false, |s| s.states())
     }
 
     /// `fmi2GetDerivatives`.
     pub fn get_derivatives(&mut self, call: Call, out: &mut [f64]) -> Status {
-        self.state_values(call, "nx", out, |s| s.derivatives())
+        self.state_values(call, "nx", out, true, |s| s.derivatives())
     }
 
     /// `fmi2GetNominalsOfContinuousStates`.
     pub fn get_nominals(&mut self, call: Call, out: &mut [f64]) -> Status {
-        self.state_values(call, "nx", out, |s| s.nominals())
+        self.state_values(call, "nx", out, false, |s| s.nominals())
     }
 
     /// `fmi2GetEventIndicators`.
@@ -162,7 +202,14 @@ impl Instance {
             Ok(sim) => sim.event_indicators(out),
             Err(e) => return self.fail(call.name, e),
         }
+        if let Some(s) = self.out_of_domain(call, None) {
+            return s;
+        }
         if let Some(z) = out.iter().find(|z| !z.is_finite()) {
+            let what = format!("an event indicator evaluates to {z}");
+            if let Some(s) = self.out_of_domain(call, Some(what)) {
+                return s;
+            }
             return self.fail(
                 call.name,
                 format!(
@@ -299,6 +346,9 @@ impl Instance {
             Ok(sim) => sim.tangent(&dx, &du),
             Err(e) => return self.fail(f, e),
         };
+        if let Some(s) = self.out_of_domain(call, None) {
+            return s;
+        }
         for (w, out) in wanted.iter().zip(dv_unknown.iter_mut()) {
             *out = match w {
                 Ok(x) => dder[x.index()],
@@ -306,6 +356,10 @@ impl Instance {
             };
         }
         if dv_unknown.iter().any(|x| !x.is_finite()) {
+            let what = "a directional derivative is not finite at this state".to_string();
+            if let Some(s) = self.out_of_domain(call, Some(what)) {
+                return s;
+            }
             return self.fail(
                 f,
                 "a directional derivative is not finite at this state".to_string(),

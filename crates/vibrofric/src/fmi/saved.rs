@@ -14,7 +14,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::staging::Staged;
-use super::state::State;
+use super::state::{Interface, State};
 use crate::model::{self, ContactState, InputId};
 use crate::physics::ParamId;
 
@@ -25,15 +25,20 @@ use crate::physics::ParamId;
 pub struct FmuState {
     /// The GUID of the FMU the state was taken from.
     pub guid: String,
+    /// The interface of the instance that saved it: it restores only into the same.
+    pub interface: Interface,
+    /// The standard's edition of the instance that saved it ("FMI 2.0", "FMI 3.0").
+    pub edition: String,
     pub staged: Staged,
     /// The simulator's state, once it exists.
     pub sim: Option<ContactState>,
 }
 
 const MAGIC: &[u8; 16] = b"vibrofric-state\0";
-/// 5: with Model Exchange's event-indicator sides (4: postcard payload with the contact's
-/// named state; 3: hand-written layout).
-const FORMAT_VERSION: u32 = 5;
+/// 6: with the interface and the standard's edition of the instance that saved it (5: Model
+/// Exchange's event-indicator sides; 4: postcard payload with the contact's named state; 3:
+/// hand-written layout).
+const FORMAT_VERSION: u32 = 6;
 
 /// FNV-1a, 64 bit: detects a corrupted or truncated byte string.
 fn checksum(b: &[u8]) -> u64 {
@@ -165,9 +170,29 @@ fn check(s: &FmuState) -> Result<(), String> {
         }
     }
     use State as S;
+    if !["FMI 2.0", "FMI 3.0"].contains(&s.edition.as_str()) {
+        return Err(format!(
+            "serialized edition \"{}\": must be \"FMI 2.0\" or \"FMI 3.0\"",
+            s.edition
+        ));
+    }
+    let foreign = match s.interface {
+        Interface::CoSimulation => matches!(st.state, S::EventMode | S::ContinuousTimeMode),
+        Interface::ModelExchange => matches!(st.state, S::StepComplete | S::StepFailed),
+    };
+    if foreign {
+        return Err(format!(
+            "serialized state machine state {} is not a state of {}",
+            st.state.name(),
+            s.interface.name()
+        ));
+    }
     match (st.state, s.sim.is_some()) {
         (S::Fatal, _) => Err("serialized state machine state Fatal cannot be restored".into()),
-        (S::StepComplete | S::StepFailed | S::Terminated, false) => Err(format!(
+        (
+            S::StepComplete | S::StepFailed | S::Terminated | S::EventMode | S::ContinuousTimeMode,
+            false,
+        ) => Err(format!(
             "serialized state machine state {} has no simulator state",
             st.state.name()
         )),

@@ -59,6 +59,15 @@ pub enum Interface {
     ModelExchange,
 }
 
+impl Interface {
+    pub fn name(self) -> &'static str {
+        match self {
+            Interface::CoSimulation => "Co-Simulation",
+            Interface::ModelExchange => "Model Exchange",
+        }
+    }
+}
+
 /// A set of states.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct States(u32);
@@ -145,12 +154,16 @@ impl States {
 pub struct Call {
     pub name: &'static str,
     pub allowed: States,
+    /// The interface the function belongs to (`None`: a function common to both).
+    pub only: Option<Interface>,
     pub words: &'static Vocabulary,
 }
 
 /// The names of an FMI version's functions and arguments that messages point the user to.
 #[derive(Debug, PartialEq, Eq)]
 pub struct Vocabulary {
+    /// The standard's edition: "FMI 2.0", "FMI 3.0".
+    pub edition: &'static str,
     pub reset: &'static str,
     pub set_state: &'static str,
     pub exit_initialization: &'static str,

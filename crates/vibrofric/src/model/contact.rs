@@ -17,9 +17,11 @@ use super::exact;
 use super::ode::{ContactOde, Ode};
 use super::simulator::{Path, SimError, Simulator, StepStats};
 use super::state::ContactState;
-use super::time::{canonical_time, MAX_INPUT_RATE, TIME_SNAP, WINDOWS_MAX};
+use super::time::{boundary_snap, canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{affine_sums, StepMean, Window};
-use crate::physics::{FrictionLaw, Harmonic, InputTrack, ParamId, Params, Relaxation, Vector};
+use crate::physics::{
+    FrictionLaw, Harmonic, InputTrack, ParamId, Params, Relaxation, Vector, NO_FRICTION_LENGTH,
+};
 use crate::solver::expint::ExpIntegrator;
 use crate::solver::{
     OdeSystem, Quad, Radau5, SolverError, SolverStats, Step, Workspace, MAX_QUAD, MAX_SWITCH,
@@ -157,9 +159,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         }
     }
 
+    /// The averaging window: the excitation period, or `T_avg` without a source, at `f` = 0
+    /// and at a frequency whose period overflows (a subnormal `f`: no vibration either).
     fn window_length(&self) -> f64 {
         match &self.dynamics.harmonic {
-            Some(h) if h.f > 0.0 => 1.0 / h.f,
+            Some(h) if h.f > 0.0 && (1.0 / h.f).is_finite() => 1.0 / h.f,
             _ => self.params.t_avg,
         }
     }
@@ -419,6 +423,18 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 }
 
+/// `reduction = 1 − F_mean/F_C` (`docs/model.md`; an output of velocity drives only): the
+/// fraction by which the vibration lowers the mean friction. 0 where the Coulomb force acts as
+/// none (`F_C/k_t` at most [`NO_FRICTION_LENGTH`], `F_C` = 0 included): there is no Coulomb
+/// force to compare with.
+pub(super) fn reduction(f_mean: f64, f_c: f64, k_t: f64) -> f64 {
+    if f_c / k_t > NO_FRICTION_LENGTH {
+        1.0 - f_mean / f_c
+    } else {
+        0.0
+    }
+}
+
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for Contact<V, L, D, N> {
     fn config(&self) -> Config {
         self.config
@@ -551,7 +567,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let t_end_abs = self.epoch + t_end;
         // How close to a window boundary a communication point counts as on it: the importer's
         // rounding, relative to the time it counts in.
-        let snap = (TIME_SNAP * t_end.abs()).max(4.0 * f64::EPSILON * t_end_abs.abs());
+        let snap = boundary_snap(t_end, t_end_abs, self.window.len);
         let saved = (
             self.radau,
             self.window,
@@ -691,8 +707,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             s_x: e.s.x(),
             s_y: e.s.y(),
             f_mean,
-            // 1 − F_mean/F_C: the fraction by which the vibration lowers the mean friction.
-            reduction: if f_c > 0.0 { 1.0 - f_mean / f_c } else { 0.0 },
+            reduction: reduction(f_mean, f_c, self.params.k_t),
             p_diss: self
                 .dynamics
                 .law_at(self.radau.t)
@@ -764,7 +779,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     }
 
     fn restore(&mut self, state: &ContactState) -> Result<(), SimError> {
-        *self = self.load(state)?;
+        *self = self.load(state, false)?;
         Ok(())
     }
 

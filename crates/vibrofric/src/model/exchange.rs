@@ -26,6 +26,12 @@ use crate::physics::{FrictionLaw, LawJacobian, Vector};
 use crate::solver::OdeSystem;
 use crate::table::{Drive, InputId, Inputs, Outputs, StateId};
 
+/// How far beyond the law's bound on the deformation (`FrictionLaw::envelope`) a state set by
+/// an importer may lie before it is out of the model's domain: no trajectory leaves the bound,
+/// an integrator's trial step overshoots it by far less, and an unstable integration passes
+/// it within a few steps.
+pub const DOMAIN_FACTOR: f64 = 1e3;
+
 /// Where a state lives in the contact.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Slot {
@@ -155,6 +161,31 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
             };
         }
         n
+    }
+
+    fn out_of_domain(&self) -> Option<String> {
+        let y = self.radau.y.as_slice();
+        let s = (0..V::DIM).map(|i| y[i] * y[i]).sum::<f64>().sqrt();
+        // The largest deformation the law holds at the current load, or at the parameters'
+        // (which a falling normal force input leaves behind until the contact slips).
+        let envelope =
+            (self.dynamics.law_at(self.radau.t).envelope()).max(self.dynamics.law.envelope());
+        let limit = DOMAIN_FACTOR * envelope;
+        (s > limit || !s.is_finite()).then(|| {
+            let names = if V::DIM == 2 { "(s_x, s_y)" } else { "s_x" };
+            let values = (0..V::DIM)
+                .map(|i| format!("{:e}", y[i]))
+                .collect::<Vec<_>>()
+                .join(", ");
+            format!(
+                "the states set give the deformation {names} = {values} m, |s| = {s:e} m, more than {DOMAIN_FACTOR:e} times the largest any trajectory reaches ({envelope:e} m, the law's bound at the current and the parameters' normal force)"
+            )
+        })
+    }
+
+    fn restore_exchange(&mut self, state: &super::state::ContactState) -> Result<(), SimError> {
+        *self = self.load(state, true)?;
+        Ok(())
     }
 
     fn set_time(&mut self, t: f64) -> Result<(), SimError> {
@@ -320,10 +351,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
             None => d_force.x(),
         };
         let f_c = self.dynamics.f_c_at(t);
-        let d_reduction = if f_c > 0.0 {
+        // `reduction` (`contact.rs`), differentiated where it is 1 − F_mean/F_C.
+        let d_reduction = if f_c / self.params.k_t <= crate::physics::NO_FRICTION_LENGTH {
+            0.0
+        } else if f_c * f_c >= f64::MIN_POSITIVE {
             -d_mean / f_c + f_mean * d_fc / (f_c * f_c)
         } else {
-            0.0
+            // F_C² underflows: the same derivative without squaring F_C.
+            (-d_mean + f_mean / f_c * d_fc) / f_c
         };
         // P_diss = F_F·v_r − k_t·s·ds/dt under every law (`physics/law.rs`, `dissipation`).
         let k_t = self.params.k_t;

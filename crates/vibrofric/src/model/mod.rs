@@ -35,6 +35,7 @@ mod window;
 pub use crate::table::{
     Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId, Outputs, StateId,
 };
+pub use exchange::DOMAIN_FACTOR;
 pub use ode::Ode;
 pub use simulator::{
     EventUpdate, Exchange, Path, SimError, Simulator, StateVector, StepStats, TOLERANCE_RANGE,

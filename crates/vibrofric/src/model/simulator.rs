@@ -204,4 +204,12 @@ pub trait Exchange {
     /// the states and `du` of the inputs, in closed form (forward mode through the law's
     /// partial derivatives).
     fn tangent(&self, dx: &StateVector, du: &Inputs) -> (StateVector, Outputs);
+    /// Why the states an importer set are outside the model's domain (far from any
+    /// trajectory: a deformation beyond [`super::DOMAIN_FACTOR`] times the law's
+    /// bound), if they are.
+    fn out_of_domain(&self) -> Option<String>;
+    /// [`Simulator::restore`] of a state a Model Exchange importer drove: its time is where
+    /// the importer set it (anywhere [`Exchange::set_time`] accepts), not necessarily inside
+    /// the averaging window in progress.
+    fn restore_exchange(&mut self, state: &ContactState) -> Result<(), SimError>;
 }

@@ -7,7 +7,7 @@ use super::contact::Contact;
 use super::drive::DriveKind;
 use super::simulator::SimError;
 use super::state::{ContactState, StepMeanState, WindowState};
-use super::time::{MAX_INPUT_RATE, WINDOWS_MAX};
+use super::time::{boundary_snap, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{StepMean, Window};
 use crate::physics::{FrictionLaw, Harmonic, Params, Vector};
 use crate::solver::{Radau5, MAX_QUAD};
@@ -51,8 +51,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         }
     }
 
-    /// The contact a state describes, after checking every field.
-    pub(super) fn load(&self, s: &ContactState) -> Result<Self, SimError> {
+    /// The contact a state describes, after checking every field. `free_time`: the state of a
+    /// Model Exchange importer, whose time may be anywhere `set_time` accepts; else the time
+    /// lies in the averaging window in progress, as stepping leaves it.
+    pub(super) fn load(&self, s: &ContactState, free_time: bool) -> Result<Self, SimError> {
         let bad = |what: String| Err(SimError::BadSnapshot(what));
         if s.config != self.config {
             return bad("taken from another scene (configuration)".into());
@@ -117,14 +119,37 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 w.index
             ));
         }
-        let index = w.index as f64;
-        let (w_start, w_end) = (w.origin + index * w.len, w.origin + (index + 1.0) * w.len);
-        let slack = 1e-9 * w.len + 4.0 * f64::EPSILON * radau.t.abs();
-        if !(radau.t >= w_start - slack && radau.t <= w_end + slack) {
+        if (s.t_abs - s.epoch - radau.t).abs() > 1e-9 * s.t_abs.abs().max(1.0) {
             return bad(format!(
-                "time {} outside the averaging window [{w_start}, {w_end}]",
-                radau.t
+                "time {} is not the start time {} plus the integrator's time {}",
+                s.t_abs, s.epoch, radau.t
             ));
+        }
+        let t = radau.t;
+        if free_time {
+            // As `set_time` checks the time an importer sets.
+            let windows = (t - w.origin).abs() / w.len;
+            if windows.is_nan() || windows > WINDOWS_MAX {
+                return bad(format!(
+                    "time {} is {windows:e} averaging windows from the window origin {}: at most {WINDOWS_MAX:e}",
+                    s.t_abs,
+                    s.epoch + w.origin
+                ));
+            }
+        } else {
+            // Stepping ends inside the window in progress, or on its start within the
+            // rounding `step_to` takes as on a boundary: the same arithmetic here.
+            let (w_start, w_end) = (
+                w.origin + w.index as f64 * w.len,
+                w.origin + (w.index + 1) as f64 * w.len,
+            );
+            let on_start = t >= w_start || (w_start - t).abs() <= boundary_snap(t, s.t_abs, w.len);
+            if !(on_start && t <= w_end) {
+                return bad(format!(
+                    "time {} outside the averaging window [{w_start}, {w_end}]",
+                    t
+                ));
+            }
         }
         if s.exp_h < 0.0 || s.step_mean.h < 0.0 {
             return bad("a step length is negative".into());
@@ -133,12 +158,6 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             return bad(format!(
                 "branch of the explicit path {}: must be -1, 0 or 1",
                 s.direction
-            ));
-        }
-        if (s.t_abs - s.epoch - radau.t).abs() > 1e-9 * s.t_abs.abs().max(1.0) {
-            return bad(format!(
-                "time {} is not the start time {} plus the integrator's time {}",
-                s.t_abs, s.epoch, radau.t
             ));
         }
         (c.epoch, c.t_abs) = (s.epoch, s.t_abs);

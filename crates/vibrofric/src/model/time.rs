@@ -12,6 +12,18 @@ pub const MAX_INPUT_RATE: f64 = 1e12;
 /// the rounding of importers' time arithmetic, far below any physical time scale.
 pub(super) const TIME_SNAP: f64 = 1e-12;
 
+/// How close to a window boundary a communication point counts as on it: the importer's
+/// rounding, relative to the time it counts in (`t_local`, counted from the start, and the
+/// importer's `t_abs`), and never more than a quarter of the window (`len`), so that a point
+/// snaps to one boundary only, however coarse the absolute time's resolution. Stepping and
+/// the check of a restored state both use it, so that a state saved on a boundary restores
+/// whatever the start time.
+pub(super) fn boundary_snap(t_local: f64, t_abs: f64, len: f64) -> f64 {
+    (TIME_SNAP * t_local.abs())
+        .max(4.0 * f64::EPSILON * t_abs.abs())
+        .min(0.25 * len)
+}
+
 /// Relative distance within which a time is taken as a nearby short decimal: 256 ulps, above
 /// the drift of importers' time arithmetic (`t += h`, `k·h`, integer nanoseconds) over
 /// thousands of steps, and small enough that a time meant to be no short decimal (k/3) almost

@@ -10,12 +10,17 @@ use super::{Params, Vector};
 /// Smallest deformation scale used to normalise errors when the law has no friction at all.
 const S_FLOOR: f64 = 1e-30;
 
-/// `1/s_ss`, or 0 (no friction) where `s_ss` is so small that its inverse overflows: a
-/// Coulomb force below 1e-300 N acts as none, exactly, instead of turning every rate into NaN.
+/// The deformation `s_ss = F_C/k_t` at or below which the Coulomb force acts as none: its
+/// inverse then stays below 1e290 /m, so that a relaxation rate `|v_r|/s_ss` is finite at any
+/// relative velocity up to 1e18 m/s (with LuGre's floor of `g`, the same length).
+pub const NO_FRICTION_LENGTH: f64 = 1e-290;
+
+/// `1/s_ss`, or 0 (no friction) where `s_ss` is at most [`NO_FRICTION_LENGTH`]: a Coulomb
+/// force that small (below 1e-288 N at the smallest stiffness) acts as none, exactly, instead
+/// of turning the rates into infinities and NaN.
 fn inverse_length(s_ss: f64) -> f64 {
-    let inv = 1.0 / s_ss;
-    if s_ss > 0.0 && inv.is_finite() {
-        inv
+    if s_ss > NO_FRICTION_LENGTH {
+        1.0 / s_ss
     } else {
         0.0
     }

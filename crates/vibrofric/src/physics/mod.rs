@@ -7,7 +7,9 @@ mod support;
 pub mod trig;
 mod vector;
 
-pub use law::{Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation};
+pub use law::{
+    Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation, NO_FRICTION_LENGTH,
+};
 pub use params::{ParamError, ParamId, Params, Rule, Sign};
 pub use support::{Harmonic, InputTrack};
 pub use vector::{Planar, Vector};

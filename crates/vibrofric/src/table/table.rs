@@ -240,8 +240,10 @@ outputs! {
     }
     Reduction => reduction {
         name: "reduction", vr: 210, unit: "1", display: None,
-        present: |_| true, depends: Reduction,
-        description: "Friction reduction 1 - F_mean/F_C: the fraction by which the vibration lowers the mean friction (0: none, also when F_C = 0)",
+        // Under force and spring drives a mean friction below F_C also comes from a body that
+        // sticks (the friction then balances the drive): no reduction the vibration caused.
+        present: |c| c.drive == Drive::Velocity, depends: Reduction,
+        description: "Friction reduction 1 - F_mean/F_C under the velocity drive: the fraction by which the vibration lowers the mean friction (0: none, also when F_C = 0)",
     }
     PDiss => p_diss {
         name: "P_diss", vr: 211, unit: "W", display: None,

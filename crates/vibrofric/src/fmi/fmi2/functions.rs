@@ -2,7 +2,7 @@
 //! of the states each may be called in (FMI 2.0, sections 3.2.3 and 4.2.4: the state machines
 //! of a model and of a slave; an instance is in the states of one of them only).
 
-use crate::fmi::state::{Call, State, States, Vocabulary};
+use crate::fmi::state::{Call, Interface, State, States, Vocabulary};
 
 /// A function of the FMI 2.0 C interface that acts on an instance.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,7 +127,8 @@ impl Function {
             GetDerivatives | GetEventIndicators | GetContinuousStates => States::EVALUATE,
             GetNominalsOfContinuousStates => States::NOMINALS,
             GetReal | GetInteger | GetBoolean | GetString => States::GET,
-            SetReal | SetInteger | SetBoolean | SetString | SetRealInputDerivatives => States::SET,
+            SetReal | SetInteger | SetBoolean | SetString => States::SET,
+            SetRealInputDerivatives => States::of(&[Instantiated, Init, StepComplete]),
             GetFMUstate
             | SetFMUstate
             | FreeFMUstate
@@ -142,11 +143,42 @@ impl Function {
         }
     }
 
+    /// The interface the function belongs to: FMI 2.0's Co-Simulation functions (section
+    /// 4.2: input and output derivatives, steps and their status) and Model Exchange
+    /// functions (section 3.2: time, modes, continuous states, event indicators) are answered
+    /// only by an instance of that interface; `None` for the common functions (section 2.1).
+    pub const fn only(self) -> Option<Interface> {
+        use Function::*;
+        match self {
+            SetRealInputDerivatives
+            | GetRealOutputDerivatives
+            | DoStep
+            | CancelStep
+            | GetStatus
+            | GetRealStatus
+            | GetIntegerStatus
+            | GetBooleanStatus
+            | GetStringStatus => Some(Interface::CoSimulation),
+            EnterEventMode
+            | NewDiscreteStates
+            | EnterContinuousTimeMode
+            | CompletedIntegratorStep
+            | SetTime
+            | SetContinuousStates
+            | GetDerivatives
+            | GetEventIndicators
+            | GetContinuousStates
+            | GetNominalsOfContinuousStates => Some(Interface::ModelExchange),
+            _ => None,
+        }
+    }
+
     /// The call as the instance sees it.
     pub const fn call(self) -> Call {
         Call {
             name: self.name(),
             allowed: self.allowed(),
+            only: self.only(),
             words: &WORDS,
         }
     }
@@ -154,6 +186,7 @@ impl Function {
 
 /// What messages call the FMI 2.0 functions they point to.
 pub static WORDS: Vocabulary = Vocabulary {
+    edition: "FMI 2.0",
     reset: "fmi2Reset",
     set_state: "fmi2SetFMUstate",
     exit_initialization: "fmi2ExitInitializationMode",

@@ -4,7 +4,7 @@
 //! mode of Co-Simulation and configuration mode are not offered: their functions answer with an
 //! error in every state.
 
-use crate::fmi::state::{Call, State, States, Vocabulary};
+use crate::fmi::state::{Call, Interface, State, States, Vocabulary};
 
 /// A function of the FMI 3.0 C interface that acts on an instance.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -131,11 +131,37 @@ impl Function {
         }
     }
 
+    /// The interface the function belongs to: Co-Simulation's steps and output derivatives,
+    /// Model Exchange's time, modes, continuous states and event indicators are answered only
+    /// by an instance of that interface (the event mode of Co-Simulation is not offered, so
+    /// `fmi3EnterEventMode` and `fmi3UpdateDiscreteStates` are Model Exchange's here); `None`
+    /// for the functions common to both.
+    pub const fn only(self) -> Option<Interface> {
+        use Function::*;
+        match self {
+            GetOutputDerivatives | DoStep => Some(Interface::CoSimulation),
+            EnterEventMode
+            | UpdateDiscreteStates
+            | EnterContinuousTimeMode
+            | CompletedIntegratorStep
+            | SetTime
+            | SetContinuousStates
+            | GetContinuousStateDerivatives
+            | GetEventIndicators
+            | GetContinuousStates
+            | GetNominalsOfContinuousStates
+            | GetNumberOfEventIndicators
+            | GetNumberOfContinuousStates => Some(Interface::ModelExchange),
+            _ => None,
+        }
+    }
+
     /// The call as the instance sees it.
     pub const fn call(self) -> Call {
         Call {
             name: self.name(),
             allowed: self.allowed(),
+            only: self.only(),
             words: &WORDS,
         }
     }
@@ -143,6 +169,7 @@ impl Function {
 
 /// What messages call the FMI 3.0 functions they point to.
 pub static WORDS: Vocabulary = Vocabulary {
+    edition: "FMI 3.0",
     reset: "fmi3Reset",
     set_state: "fmi3SetFMUState",
     exit_initialization: "fmi3ExitInitializationMode",
