@@ -13,7 +13,7 @@ import zipfile
 
 import pytest
 
-from conftest import DIST, ROOT, fmu_path
+from conftest import DIST, ROOT, fmu_path, vibrofric_exe
 
 USING = ROOT / "docs" / "using.md"
 
@@ -22,10 +22,20 @@ def python_blocks(text):
     return re.findall(r"```python\n(.*?)```", text, re.S)
 
 
+def scene_blocks(text):
+    """The guide's scenes: its TOML blocks that name a model."""
+    return [b for b in re.findall(r"```toml\n(.*?)```", text, re.S) if "model_identifier" in b]
+
+
 def run_in_copy(tmp_path, code):
     for f in DIST.glob("*.fmu"):
         shutil.copy(f, tmp_path / f.name)
-    (tmp_path / "fmi3").mkdir()
+    # The guide's own scenes, exported as its text says (`vibrofric export ... --out`).
+    for k, scene in enumerate(scene_blocks(USING.read_text())):
+        (tmp_path / f"scene{k}.toml").write_text(scene)
+        subprocess.run([str(vibrofric_exe()), "export", f"scene{k}.toml", "--out", "."],
+                       cwd=tmp_path, check=True, capture_output=True, text=True)
+    (tmp_path / "fmi3").mkdir(exist_ok=True)
     for f in (DIST / "fmi3").glob("*.fmu"):
         shutil.copy(f, tmp_path / "fmi3" / f.name)
     script = tmp_path / "example.py"
@@ -41,6 +51,10 @@ def test_guide_has_the_examples():
     assert len(blocks) >= 3
     assert any("setRealInputDerivatives" in b for b in blocks)
     assert any("output_interval" in b for b in blocks)
+    # The drill-string recipe: its scene and the loop that uses it.
+    scenes = scene_blocks(USING.read_text())
+    assert any('model_identifier = "DrillStringHostOwned"' in s for s in scenes)
+    assert any("DrillStringHostOwned.fmu" in b and "F_Fx_step" in b for b in blocks)
 
 
 @pytest.mark.parametrize("k", range(len(python_blocks(USING.read_text()))))
