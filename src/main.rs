@@ -8,14 +8,15 @@
 //! - `vibrofric export --write-descriptions modelDescription/` also refreshes the checked-in
 //!   model descriptions.
 //!
-//! An FMU holds `modelDescription.xml`, `binaries/<platform>/<model_identifier>.<ext>` (a copy of
-//! the one `libvibrofric` cdylib, which reads the scene from `resources/` at instantiation),
-//! `documentation/index.html` and `resources/scene.toml`.
+//! An FMU holds `modelDescription.xml`, `binaries/<platform>/<model_identifier>.<ext>` for each
+//! platform it carries (the one `libvibrofric` cdylib built per platform, which reads the scene
+//! from `resources/` at instantiation), `documentation/index.html` and `resources/scene.toml`.
 //!
-//! On x86-64 Linux the shipped library is built for glibc 2.17 by `cargo zigbuild` when
-//! cargo-zigbuild is installed (in `.venv/bin`, where `bash tests/all.sh` puts it, or on `PATH`),
-//! else it is the host build, which needs the host's glibc; the output says which glibc the
-//! FMUs need. `VIBROFRIC_PORTABLE=1` requires the glibc 2.17 build, `=0` ships the host build.
+//! `--platforms` chooses the platforms (`platforms.rs`): Linux (glibc 2.17 by cargo-zigbuild
+//! where installed, else the host build; `VIBROFRIC_PORTABLE=1` requires the glibc 2.17 build,
+//! `=0` ships the host build), Windows (mingw-w64) and macOS (cargo-zigbuild, universal). By
+//! default every platform whose toolchain is installed; the output names the others and how to
+//! add them.
 
 use std::fs::File;
 use std::io::Write;
@@ -24,36 +25,19 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod binary;
 mod elf;
+mod platforms;
 mod simulate;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
+use platforms::{Request, Shipped};
 use vibrofric::description::variables::{Causality, VarKind};
 use vibrofric::description::{docs, xml, xml3, Scene};
 use vibrofric::model::{self, InputId, StateId};
 use vibrofric_import::fmi3::Fmu3;
 use vibrofric_import::Fmu;
-
-/// FMI 2.0 platform directory of this build (`linux64`, `win64`, `darwin64`).
-fn platform() -> &'static str {
-    vibrofric_import::platform().0
-}
-
-/// FMI 3.0 platform tuple of this build (`x86_64-linux`, `x86_64-windows`, `aarch64-darwin`).
-fn platform3() -> String {
-    let os = match std::env::consts::OS {
-        "macos" => "darwin",
-        os => os,
-    };
-    format!("{}-{os}", std::env::consts::ARCH)
-}
-
-/// File name of the FMU library cargo builds beside the binary (`libvibrofric.so` on Linux).
-fn lib_file() -> String {
-    use std::env::consts::{DLL_EXTENSION, DLL_PREFIX};
-    format!("{DLL_PREFIX}vibrofric.{DLL_EXTENSION}")
-}
 
 /// Scene directory and FMU directory of the no-argument run.
 const SCENES_DIR: &str = "scenes";
@@ -92,6 +76,11 @@ enum Command {
         /// Run a short self-check simulation of each exported FMU.
         #[arg(long)]
         check: bool,
+        /// Platforms to put into each FMU: `available` (every platform whose toolchain is
+        /// installed; the others are named), `all` (linux64, win64, darwin64, or fail), or a
+        /// list such as `linux64,win64`.
+        #[arg(long, value_name = "LIST", default_value = "available", value_parser = Request::parse)]
+        platforms: Request,
     },
     /// Run a scene with the core directly (no FMU) and print its outputs as CSV, one row per
     /// communication point, as fmpy's co-simulation loop places them.
@@ -101,19 +90,28 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        None => export(&[], Path::new(DIST_DIR), None, None, true),
+        None => export(
+            &[],
+            Path::new(DIST_DIR),
+            None,
+            None,
+            true,
+            &Request::Available,
+        ),
         Some(Command::Export {
             scenes,
             out,
             write_descriptions,
             library,
             check,
+            platforms,
         }) => export(
             &scenes,
             &out,
             write_descriptions.as_deref(),
             library.as_deref(),
             check,
+            &platforms,
         ),
         Some(Command::Simulate(o)) => simulate::run(&o).map(|csv| print!("{csv}")),
     };
@@ -141,211 +139,13 @@ fn standard_scenes(dir: &Path) -> Result<Vec<PathBuf>, String> {
     Ok(files)
 }
 
-/// The cdylib cargo built beside this executable: `libvibrofric` in the executable's directory
-/// or its parent (for executables cargo places in `deps/`).
-fn host_library() -> Result<PathBuf, String> {
-    let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
-    let dir = exe.parent().unwrap_or(Path::new("."));
-    let candidates = [Some(dir), dir.parent()];
-    for d in candidates.into_iter().flatten() {
-        let p = d.join(lib_file());
-        if p.is_file() {
-            return Ok(p);
-        }
-    }
-    Err(format!(
-        "cannot find {} next to {}: build it with `cargo build --release` (cargo builds \
-         the cdylib beside the binary) or pass --library FILE",
-        lib_file(),
-        exe.display()
-    ))
-}
-
-/// The Rust target of the portable Linux build: x86-64, glibc 2.17 symbol versions (RHEL 7,
-/// Ubuntu 18.04 and everything newer), linked by zig through cargo-zigbuild.
-const PORTABLE_TARGET: &str = "x86_64-unknown-linux-gnu.2.17";
-/// The oldest glibc the portable build targets.
-const PORTABLE_GLIBC: &str = "2.17";
-
-/// How the portable build is asked for: `VIBROFRIC_PORTABLE` = `1` (required: fail without
-/// it), `0` (never), unset (when cargo-zigbuild is found).
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Portable {
-    Auto,
-    Required,
-    Off,
-}
-
-fn portable_mode() -> Result<Portable, String> {
-    match std::env::var("VIBROFRIC_PORTABLE").as_deref() {
-        Err(_) | Ok("") => Ok(Portable::Auto),
-        Ok("1") => Ok(Portable::Required),
-        Ok("0") => Ok(Portable::Off),
-        Ok(other) => Err(format!(
-            "VIBROFRIC_PORTABLE = {other:?}: must be 1 (require the glibc {PORTABLE_GLIBC} build), \
-             0 (ship the host build) or unset (the glibc {PORTABLE_GLIBC} build when cargo-zigbuild is found)"
-        )),
-    }
-}
-
-/// `PATH` with the project's `.venv/bin` first (where `bash tests/all.sh` installs cargo-zigbuild
-/// and zig), and the directory of `cargo-zigbuild` when found on it.
-fn zigbuild_path() -> (std::ffi::OsString, Option<PathBuf>) {
-    let venv_bin = std::env::current_dir()
-        .map(|d| d.join(".venv").join("bin"))
-        .unwrap_or_else(|_| PathBuf::from(".venv/bin"));
-    let mut dirs = vec![venv_bin];
-    if let Some(p) = std::env::var_os("PATH") {
-        dirs.extend(std::env::split_paths(&p));
-    }
-    let found = dirs
-        .iter()
-        .map(|d| d.join("cargo-zigbuild"))
-        .find(|p| p.is_file());
-    let path = std::env::join_paths(&dirs).unwrap_or_default();
-    (path, found)
-}
-
-/// Builds the cdylib for glibc 2.17 with `cargo zigbuild` into the same target directory as this
-/// executable, and returns it. `Ok(None)` when cargo-zigbuild is not installed (the caller ships
-/// the host build and says which glibc it needs).
-fn portable_library() -> Result<Option<PathBuf>, String> {
-    if !(cfg!(target_os = "linux") && cfg!(target_arch = "x86_64")) {
-        return Ok(None);
-    }
-    let (path, zigbuild) = zigbuild_path();
-    if zigbuild.is_none() {
-        return Ok(None);
-    }
-    // <target>/release/vibrofric: the target directory is two levels up.
-    let exe = std::env::current_exe().map_err(|e| format!("cannot locate this executable: {e}"))?;
-    let target_dir = exe
-        .parent()
-        .filter(|d| d.file_name().is_some_and(|n| n == "release"))
-        .and_then(Path::parent)
-        .ok_or_else(|| {
-            format!(
-                "{} is not in a cargo target directory's release/: build with `cargo run --release`",
-                exe.display()
-            )
-        })?;
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml");
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    println!(
-        "building the FMU binary for glibc >= {PORTABLE_GLIBC} with cargo-zigbuild \
-         (target {PORTABLE_TARGET}; the first build takes about as long as `cargo build --release`)"
-    );
-    let status = std::process::Command::new(&cargo)
-        .env("PATH", &path)
-        .args([
-            "zigbuild",
-            "--release",
-            "--package",
-            "vibrofric",
-            "--lib",
-            "--target",
-            PORTABLE_TARGET,
-        ])
-        .arg("--manifest-path")
-        .arg(&manifest)
-        .arg("--target-dir")
-        .arg(target_dir)
-        .status()
-        .map_err(|e| format!("cannot run {}: {e}", cargo.to_string_lossy()))?;
-    if !status.success() {
-        return Err(format!(
-            "`cargo zigbuild --release --package vibrofric --lib --target {PORTABLE_TARGET}` failed ({status})"
-        ));
-    }
-    let lib = target_dir
-        .join("x86_64-unknown-linux-gnu")
-        .join("release")
-        .join(lib_file());
-    if !lib.is_file() {
-        return Err(format!("cargo zigbuild did not write {}", lib.display()));
-    }
-    Ok(Some(lib))
-}
-
-/// The cdylib to ship, and a line saying where it comes from: `--library`, else the glibc 2.17
-/// build when cargo-zigbuild is available (see [`Portable`]), else the host build.
-fn find_library(explicit: Option<&Path>) -> Result<(PathBuf, &'static str), String> {
-    if let Some(p) = explicit {
-        return if p.is_file() {
-            Ok((p.to_path_buf(), "--library"))
-        } else {
-            Err(format!("--library {}: no such file", p.display()))
-        };
-    }
-    let mode = portable_mode()?;
-    if mode != Portable::Off {
-        match portable_library() {
-            Ok(Some(lib)) => return Ok((lib, "cargo-zigbuild")),
-            Ok(None) if mode == Portable::Required => return Err(
-                "VIBROFRIC_PORTABLE=1 but cargo-zigbuild was found neither in .venv/bin nor on \
-                     PATH: `bash tests/all.sh` installs it (with zig) into .venv, or \
-                     `pip install ziglang cargo-zigbuild`"
-                    .to_string(),
-            ),
-            Ok(None) => {}
-            Err(e) if mode == Portable::Required => return Err(e),
-            Err(e) => println!("warning: {e}; shipping the host build instead"),
-        }
-    }
-    Ok((host_library()?, "host toolchain"))
-}
-
-/// One line on which C library the shipped binary needs.
-fn platform_line(lib: &Path, source: &str) -> Result<(String, docs::Binary), String> {
-    if !cfg!(target_os = "linux") {
-        return Ok((
-            format!("binaries/{}: {} ({source})", platform(), lib.display()),
-            docs::Binary {
-                platform: platform(),
-                glibc: None,
-                libraries: vec![],
-            },
-        ));
-    }
-    let needs = elf::file_needs(lib)?;
-    let glibc = needs.max_glibc().map(|v| v.to_string());
-    let need = glibc
-        .as_deref()
-        .map_or("no versioned glibc symbol".to_string(), |v| {
-            format!("needs glibc >= {v}")
-        });
-    let mut line = format!(
-        "binaries/{}: {} ({source}): {need}",
-        platform(),
-        lib.display()
-    );
-    if source == "cargo-zigbuild" {
-        line.push_str(&format!(
-            " (built for glibc {PORTABLE_GLIBC}: RHEL 7/8, Ubuntu 18.04/20.04 and newer)"
-        ));
-    }
-    if source == "host toolchain" {
-        line.push_str(&format!(
-            "; for glibc >= {PORTABLE_GLIBC} (RHEL 7/8, Ubuntu 18.04/20.04) install cargo-zigbuild \
-             (`bash tests/all.sh` puts it, with zig, into .venv) and export again"
-        ));
-    }
-    Ok((
-        line,
-        docs::Binary {
-            platform: platform(),
-            glibc,
-            libraries: needs.libraries,
-        },
-    ))
-}
-
 fn export(
     scene_files: &[PathBuf],
     out: &Path,
     descriptions: Option<&Path>,
     library: Option<&Path>,
     check: bool,
+    platforms: &Request,
 ) -> Result<(), String> {
     let files = if scene_files.is_empty() {
         standard_scenes(Path::new(SCENES_DIR))?
@@ -369,11 +169,18 @@ fn export(
         }
         scenes.push((f.clone(), s));
     }
-    let (lib_path, source) = find_library(library)?;
-    let lib = std::fs::read(&lib_path)
-        .map_err(|e| format!("{}: cannot read: {e}", lib_path.display()))?;
-    let (line, binary) = platform_line(&lib_path, source)?;
-    println!("{line}");
+    let (shipped, skipped) = platforms::build(platforms, library)?;
+    for s in &shipped {
+        println!("{}", s.line);
+    }
+    for line in &skipped {
+        println!("{line}");
+    }
+    let names: Vec<&str> = shipped.iter().map(|s| s.platform.name()).collect();
+    println!("platforms in each FMU: {}", names.join(", "));
+    let files = read_binaries(&shipped)?;
+    let doc2: Vec<docs::Binary> = shipped.iter().map(|s| s.doc2.clone()).collect();
+    let doc3: Vec<docs::Binary> = shipped.iter().map(|s| s.doc3.clone()).collect();
 
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     if let Some(d) = descriptions {
@@ -384,31 +191,34 @@ fn export(
     for (file, scene) in &scenes {
         let fmu = out.join(format!("{}.fmu", scene.model_identifier));
         let description = xml::model_description(scene);
-        let bin = format!(
-            "binaries/{}/{}.{}",
-            platform(),
-            scene.model_identifier,
-            std::env::consts::DLL_EXTENSION
-        );
-        let doc = docs::index_html_for(scene, &binary);
-        write_fmu(&fmu, scene, &description, &bin, &lib, &doc)?;
-        // The FMI 3.0 edition: the same library and scene, FMI 3.0's description and layout.
-        let fmu3 = out3.join(format!("{}.fmu", scene.model_identifier));
-        let bin3 = format!(
-            "binaries/{}/{}.{}",
-            platform3(),
-            scene.model_identifier,
-            std::env::consts::DLL_EXTENSION
-        );
-        let doc3 = docs::index_html_fmi3(scene, &binary);
-        write_fmu(
-            &fmu3,
-            scene,
-            &xml3::model_description(scene),
-            &bin3,
-            &lib,
-            &doc3,
-        )?;
+        let id = &scene.model_identifier;
+        let bins2: Vec<(String, &[u8])> = shipped
+            .iter()
+            .zip(&files)
+            .map(|(s, (lib2, _))| {
+                let ext = s.platform.extension();
+                (
+                    format!("binaries/{}/{id}.{ext}", s.platform.name()),
+                    &lib2[..],
+                )
+            })
+            .collect();
+        let doc = docs::index_html_for(scene, &doc2);
+        write_fmu(&fmu, scene, &description, &bins2, &doc)?;
+        // The FMI 3.0 edition: the same libraries and scene, FMI 3.0's description and layout.
+        let fmu3 = out3.join(format!("{id}.fmu"));
+        let bins3: Vec<(String, &[u8])> = shipped
+            .iter()
+            .zip(&files)
+            .flat_map(|(s, (_, libs3))| {
+                let ext = s.platform.extension();
+                s.fmi3.iter().zip(libs3).map(move |((folder, _), lib)| {
+                    (format!("binaries/{folder}/{id}.{ext}"), &lib[..])
+                })
+            })
+            .collect();
+        let doc3 = docs::index_html_fmi3(scene, &doc3);
+        write_fmu(&fmu3, scene, &xml3::model_description(scene), &bins3, &doc3)?;
         let n_vars = scene.variables().count();
         let n_out = scene
             .variables()
@@ -446,14 +256,32 @@ fn export(
     Ok(())
 }
 
+/// The bytes of each shipped library: the FMI 2.0 file and the FMI 3.0 files, per platform.
+type Binaries = Vec<(Vec<u8>, Vec<Vec<u8>>)>;
+
+fn read_binaries(shipped: &[Shipped]) -> Result<Binaries, String> {
+    let read =
+        |p: &Path| std::fs::read(p).map_err(|e| format!("{}: cannot read: {e}", p.display()));
+    shipped
+        .iter()
+        .map(|s| {
+            let libs3 = s
+                .fmi3
+                .iter()
+                .map(|(_, f)| read(f))
+                .collect::<Result<_, _>>()?;
+            Ok((read(&s.fmi2)?, libs3))
+        })
+        .collect()
+}
+
 /// Writes the FMU archive (to a temporary name first, so that a failed export leaves no
 /// half-written FMU behind).
 fn write_fmu(
     path: &Path,
     scene: &Scene,
     description: &str,
-    binary_name: &str,
-    lib: &[u8],
+    binaries: &[(String, &[u8])],
     doc: &str,
 ) -> Result<(), String> {
     let tmp = path.with_extension("fmu.partial");
@@ -466,16 +294,19 @@ fn write_fmu(
         .compression_method(CompressionMethod::Deflated)
         .last_modified_time(DateTime::default())
         .unix_permissions(0o644);
-    let entries: [(String, &[u8], u32); 4] = [
-        ("modelDescription.xml".into(), description.as_bytes(), 0o644),
-        (binary_name.into(), lib, 0o755),
-        ("documentation/index.html".into(), doc.as_bytes(), 0o644),
-        (
-            "resources/scene.toml".into(),
-            scene.source.as_bytes(),
-            0o644,
-        ),
-    ];
+    let mut entries: Vec<(String, &[u8], u32)> =
+        vec![("modelDescription.xml".into(), description.as_bytes(), 0o644)];
+    entries.extend(
+        binaries
+            .iter()
+            .map(|(name, lib)| (name.clone(), *lib, 0o755)),
+    );
+    entries.push(("documentation/index.html".into(), doc.as_bytes(), 0o644));
+    entries.push((
+        "resources/scene.toml".into(),
+        scene.source.as_bytes(),
+        0o644,
+    ));
     for (name, bytes, mode) in entries {
         zip.start_file(name, opts.unix_permissions(mode))
             .map_err(zerr)?;

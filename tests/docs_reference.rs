@@ -128,14 +128,23 @@ fn reference_rows_agree_with_the_reader() {
 /// the platform section; both editions say they offer Model Exchange.
 #[test]
 fn fmu_pages_carry_the_picture_usage_and_platform() {
-    let binary = docs::Binary {
-        platform: "linux64",
-        glibc: Some("2.17".into()),
+    let linux = docs::Binary {
+        folders: vec!["linux64"],
+        file_ext: "so",
+        os: "x86-64 Linux",
+        requirement: "glibc 2.17 or newer".into(),
         libraries: vec!["libc.so.6".into(), "libm.so.6".into()],
     };
+    let windows = docs::Binary {
+        folders: vec!["win64"],
+        file_ext: "dll",
+        os: "64-bit Windows (x86-64)",
+        requirement: "Windows 10 or later".into(),
+        libraries: vec!["KERNEL32.dll".into()],
+    };
     for (file, s) in standard_scenes() {
-        let html = docs::index_html_for(&s, &binary);
-        let html3 = docs::index_html_fmi3(&s, &binary);
+        let html = docs::index_html_for(&s, &[linux.clone(), windows.clone()]);
+        let html3 = docs::index_html_fmi3(&s, &[linux.clone(), windows.clone()]);
         let planar = s.config.planar();
         let step = if s.config.harmonic {
             1.0 / s.start.f
@@ -176,6 +185,22 @@ fn fmu_pages_carry_the_picture_usage_and_platform() {
         assert!(html.contains("glibc 2.17 or newer"), "{file}");
         assert!(
             html.contains("It links only <code>libc.so.6</code>, <code>libm.so.6</code>:"),
+            "{file}"
+        );
+        let id = &s.model_identifier;
+        assert!(
+            html.contains(&format!(
+                "<code>binaries/win64/{id}.dll</code>: 64-bit Windows"
+            )),
+            "{file}"
+        );
+        assert!(
+            html.contains("Not in this FMU: <code>darwin64</code>."),
+            "{file}"
+        );
+        let linux_only = docs::index_html_for(&s, std::slice::from_ref(&linux));
+        assert!(
+            linux_only.contains("Not in this FMU: <code>win64</code>, <code>darwin64</code>."),
             "{file}"
         );
         if s.config.input_support {

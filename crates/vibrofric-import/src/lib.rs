@@ -351,11 +351,36 @@ impl fmt::Debug for Fmu {
     }
 }
 
-/// Percent-encodes a path for a `file:` URI.
-fn file_uri(path: &Path) -> String {
+/// The `file:` URI of a local folder as RFC 8089 and fmpy (`pathlib.Path.as_uri()`) write it:
+/// `file:///home/u/x` on Unix, `file:///C:/Users/u/x` on Windows (`\\server\share\x` as
+/// `file://server/share/x`), every byte but the unreserved ones, `/` and a drive's `:`
+/// percent-encoded.
+pub fn file_uri(path: &Path) -> String {
+    file_uri_of(&path.to_string_lossy(), cfg!(windows))
+}
+
+fn file_uri_of(path: &str, windows: bool) -> String {
     let mut s = String::from("file://");
-    for b in path.to_string_lossy().bytes() {
-        if b.is_ascii_alphanumeric() || b"/-._~".contains(&b) {
+    let mut rest = path.to_string();
+    if windows {
+        rest = rest.replace('\\', "/");
+        // Verbatim paths (from canonicalize): //?/C:/x and //?/UNC/server/share/x.
+        if let Some(p) = rest.strip_prefix("//?/UNC/") {
+            rest = format!("//{p}");
+        } else if let Some(p) = rest.strip_prefix("//?/") {
+            rest = p.to_string();
+        }
+        match rest.strip_prefix("//") {
+            // A UNC share: the server is the URI's host.
+            Some(unc) => rest = unc.to_string(),
+            // A drive-letter path: an empty host, then /C:/...
+            None if !rest.starts_with('/') => s.push('/'),
+            None => {}
+        }
+    }
+    for (i, b) in rest.bytes().enumerate() {
+        let drive_colon = windows && i == 1 && b == b':';
+        if b.is_ascii_alphanumeric() || b"/-._~".contains(&b) || drive_colon {
             s.push(b as char);
         } else {
             s.push_str(&format!("%{b:02X}"));
@@ -975,6 +1000,35 @@ impl Instance<'_> {
             Ok(State(p))
         } else {
             Err(s.max(Status::Error))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::file_uri_of;
+
+    #[test]
+    fn file_uris_are_written_as_rfc_8089_and_fmpy_write_them() {
+        for (path, windows, want) in [
+            (
+                "/home/u/fmu/resources",
+                false,
+                "file:///home/u/fmu/resources",
+            ),
+            ("/tmp/a b/ä", false, "file:///tmp/a%20b/%C3%A4"),
+            ("/tmp/C:x", false, "file:///tmp/C%3Ax"),
+            (
+                r"C:\Users\u\fmu\resources",
+                true,
+                "file:///C:/Users/u/fmu/resources",
+            ),
+            (r"\\?\C:\Users\u\a b", true, "file:///C:/Users/u/a%20b"),
+            (r"\\server\share\fmu", true, "file://server/share/fmu"),
+            (r"\\?\UNC\server\share\fmu", true, "file://server/share/fmu"),
+            (r"\fmu\resources", true, "file:///fmu/resources"),
+        ] {
+            assert_eq!(file_uri_of(path, windows), want, "{path}");
         }
     }
 }

@@ -275,14 +275,19 @@ fn equations(scene: &Scene, ed: Edition) -> Vec<String> {
     eq
 }
 
-/// The binary an FMU ships, for the platform section of its page.
+/// One platform's library inside an FMU, for the platform section of its page.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Binary {
-    /// FMI platform directory (`linux64`, `win64`, `darwin64`).
-    pub platform: &'static str,
-    /// The oldest glibc that loads the binary (its highest `GLIBC_` symbol version), when known.
-    pub glibc: Option<String>,
-    /// The shared libraries it links (`DT_NEEDED`), when known.
+    /// The FMU's folders that hold it, of the page's edition: `linux64` (FMI 2.0),
+    /// `x86_64-darwin` and `aarch64-darwin` (FMI 3.0), ...
+    pub folders: Vec<&'static str>,
+    /// The library's file extension (`so`, `dll`, `dylib`).
+    pub file_ext: &'static str,
+    /// The system it runs on, in words (`64-bit Windows (x86-64)`).
+    pub os: &'static str,
+    /// What the system must be (HTML): the oldest glibc, Windows or macOS version.
+    pub requirement: String,
+    /// The shared libraries it links, when known.
     pub libraries: Vec<String>,
 }
 
@@ -566,44 +571,57 @@ fn model_exchange_snippet(scene: &Scene) -> String {
     )
 }
 
-/// The platform section: where the binary is and what it needs.
-fn platform_html(scene: &Scene, binary: &Binary) -> String {
+/// The platform section: the library of each platform inside the FMU and what it needs.
+fn platform_html(scene: &Scene, binaries: &[Binary]) -> String {
     let id = escape(&scene.model_identifier);
     let mut h = String::from("<h2>Platform requirements</h2>\n<ul>\n");
-    let (ext, os) = match binary.platform {
-        "win64" => ("dll", "64-bit Windows"),
-        "darwin64" => ("dylib", "64-bit macOS"),
-        _ => ("so", "x86-64 Linux"),
-    };
-    let libc = match (&binary.glibc, binary.platform) {
-        (Some(v), "linux64") => format!(
-            ", glibc {v} or newer (the highest <code>GLIBC_</code> symbol version the library imports; glibc 2.17 is RHEL 7, 2.27 Ubuntu 18.04, 2.28 RHEL 8, 2.31 Ubuntu 20.04)"
-        ),
-        (None, "linux64") => {
-            ", glibc: the exporter prints the version the library needs when it writes the FMU"
-                .to_string()
-        }
-        _ => String::new(),
-    };
-    let libraries = if binary.libraries.is_empty() {
-        "the C library and its companions (<code>libc</code>, <code>libm</code>, \
-         <code>libpthread</code>, <code>libdl</code>, <code>libgcc_s</code>)"
-            .to_string()
-    } else {
-        binary
-            .libraries
+    for b in binaries {
+        let files = b
+            .folders
             .iter()
-            .map(|l| format!("<code>{}</code>", escape(l)))
+            .map(|f| format!("<code>binaries/{f}/{id}.{}</code>", b.file_ext))
             .collect::<Vec<_>>()
-            .join(", ")
-    };
-    h.push_str(&format!(
-        "<li><code>binaries/{}/{id}.{ext}</code>: {os}{libc}. It links only {libraries}: no \
-         other run-time, no Python, no licence server.</li>\n",
-        binary.platform
-    ));
+            .join(", ");
+        let libraries = if b.libraries.is_empty() {
+            "only system libraries".to_string()
+        } else {
+            let names = b
+                .libraries
+                .iter()
+                .map(|l| format!("<code>{}</code>", escape(l)))
+                .collect::<Vec<_>>()
+                .join(", ");
+            format!("only {names}")
+        };
+        h.push_str(&format!(
+            "<li>{files}: {}, {}. It links {libraries}: no other run-time, no Python, no licence server.</li>\n",
+            b.os, b.requirement
+        ));
+    }
     h.push_str("<li>Any FMI 2.0 importer, for Co-Simulation (fmpy, OMSimulator, libcosim, ecos, Simulink's FMU Import block, Dymola, fmi-sim and others) or Model Exchange (the importer's own integrator: fmpy's CVode, Dymola, OpenModelica, Simulink, OMSimulator). The FMI 3.0 edition of the same scene offers both as well.</li>\n");
-    h.push_str("<li>Other platforms (<code>win64</code>, <code>darwin64</code>) are not in this FMU: export the scene on that platform with the same vibrofric version.</li>\n</ul>\n");
+    let all = ["linux64", "win64", "darwin64"];
+    let shipped = |p: &str| {
+        binaries.iter().any(|b| {
+            b.folders.iter().any(|f| {
+                *f == p
+                    || (p == "linux64" && f.ends_with("-linux"))
+                    || (p == "win64" && f.ends_with("-windows"))
+                    || (p == "darwin64" && f.ends_with("-darwin"))
+            })
+        })
+    };
+    let absent: Vec<String> = all
+        .iter()
+        .filter(|p| !shipped(p))
+        .map(|p| format!("<code>{p}</code>"))
+        .collect();
+    if !absent.is_empty() {
+        h.push_str(&format!(
+            "<li>Not in this FMU: {}. The exporter builds every platform on Linux where its cross toolchain is installed; export the scene again there.</li>\n",
+            absent.join(", ")
+        ));
+    }
+    h.push_str("</ul>\n");
     h
 }
 
@@ -635,27 +653,31 @@ fn model_exchange_html(scene: &Scene, ed: Edition) -> String {
 pub fn index_html(scene: &Scene) -> String {
     index_html_for(
         scene,
-        &Binary {
-            platform: "linux64",
-            glibc: None,
+        &[Binary {
+            folders: vec!["linux64"],
+            file_ext: "so",
+            os: "x86-64 Linux",
+            requirement:
+                "glibc: the exporter prints the version the library needs when it writes the FMU"
+                    .into(),
             libraries: vec![],
-        },
+        }],
     )
 }
 
-/// The documentation page of the FMI 3.0 edition of a scene's FMU that ships `binary`: the
+/// The documentation page of the FMI 3.0 edition of a scene's FMU that ships `binaries`: the
 /// FMI 2.0 page's content in FMI 3.0's calls, with FMI 3.0 snippets.
-pub fn index_html_fmi3(scene: &Scene, binary: &Binary) -> String {
-    page(scene, binary, Edition::Fmi3)
+pub fn index_html_fmi3(scene: &Scene, binaries: &[Binary]) -> String {
+    page(scene, binaries, Edition::Fmi3)
 }
 
-/// The documentation page of the FMI 2.0 edition of a scene's FMU that ships `binary`.
-pub fn index_html_for(scene: &Scene, binary: &Binary) -> String {
-    page(scene, binary, Edition::Fmi2)
+/// The documentation page of the FMI 2.0 edition of a scene's FMU that ships `binaries`.
+pub fn index_html_for(scene: &Scene, binaries: &[Binary]) -> String {
+    page(scene, binaries, Edition::Fmi2)
 }
 
 /// The documentation page of one edition of a scene's FMU.
-fn page(scene: &Scene, binary: &Binary, ed: Edition) -> String {
+fn page(scene: &Scene, binaries: &[Binary], ed: Edition) -> String {
     let c = &scene.config;
     let id = escape(&scene.model_identifier);
     let v = ed.version();
@@ -765,7 +787,7 @@ fn page(scene: &Scene, binary: &Binary, ed: Edition) -> String {
         xml::number(step)
     ));
     h.push_str(&model_exchange_html(scene, ed));
-    h.push_str(&platform_html(scene, binary));
+    h.push_str(&platform_html(scene, binaries));
 
     h.push_str("<h2>Logging</h2>\n<ul>\n");
     for c in crate::description::log::Category::ALL {
