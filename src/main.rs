@@ -47,10 +47,11 @@ const DIST_DIR: &str = "dist";
 #[command(
     name = "vibrofric",
     version,
-    about = "Exports friction-contact scenes as FMI 2.0 and FMI 3.0 Co-Simulation FMUs.",
-    long_about = "Exports friction-contact scenes as FMI 2.0 and FMI 3.0 Co-Simulation FMUs.\n\n\
-        Without arguments: export every scenes/*.toml into dist/ and run a short self-check \
-        simulation of each."
+    about = "Exports friction-contact scenes as FMI 2.0 and FMI 3.0 FMUs for Co-Simulation and Model Exchange.",
+    long_about = "Exports friction-contact scenes as FMI 2.0 and FMI 3.0 FMUs, each offering \
+        Co-Simulation (the FMU's own solver) and Model Exchange (the importer's integrator).\n\n\
+        Without arguments: export every scenes/*.toml into dist/ (FMI 3.0 editions in dist/fmi3/) \
+        and run a short self-check simulation of each."
 )]
 struct Cli {
     #[command(subcommand)]

@@ -391,7 +391,8 @@ fn zero_load_or_zero_friction_gives_zero_friction_without_nan() {
             let mut p = Params::default();
             p.f_n = f_n;
             p.mu = mu;
-            p.f_s = 0.0;
+            // LuGre's static force follows the load (F_S is given at 55 N, mu = 0.2): none here.
+            assert_eq!(p.static_force(), 0.0);
             for c in [
                 longitudinal_velocity(law),
                 config(law, Motion::Planar, Drive::Force, Lateral::Guided),
@@ -416,9 +417,12 @@ fn zero_load_or_zero_friction_gives_zero_friction_without_nan() {
             }
         }
     }
-    // LuGre with a static force but no load stays finite.
+    // LuGre with a static force but no load stays finite: a contact given without a reference
+    // load takes F_S as it is, 14.3 N against F_C = 0.
     let mut p = Params::default();
     p.f_n = 0.0;
+    p.f_n_ref = 0.0;
+    assert_eq!(p.static_force(), 14.3);
     let o = run_velocity(longitudinal_velocity(Law::LuGre), p, 1e-3, 10.0, 1e-6);
     assert!(o.f_fx.is_finite() && o.f_mean.is_finite());
 }

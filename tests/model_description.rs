@@ -899,6 +899,11 @@ fn initial_unknown_dependencies_hold_in_the_core() {
                     VarKind::Input(i) => *i.slot(&mut inputs) = value,
                     _ => unreachable!("only parameters and inputs are settable"),
                 }
+                // A LuGre static force below the Coulomb force is refused as a combination.
+                let lugre = s.config.law == vibrofric::model::Law::LuGre;
+                if lugre && params.static_force_inverted().is_some() {
+                    continue;
+                }
                 let changed = at_start(params, inputs);
                 for ((vr, a), (_, b)) in base.iter().zip(&changed) {
                     if a.to_bits() == b.to_bits() {

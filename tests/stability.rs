@@ -151,7 +151,8 @@ fn zero_load_and_zero_friction_coefficient() {
             let mut p = Params::default();
             p.f_n = f_n;
             p.mu = mu;
-            p.f_s = 0.0;
+            // LuGre's static force follows the load (F_S is given at 55 N, mu = 0.2): none here.
+            assert_eq!(p.static_force(), 0.0);
             let mut sim = build(planar_force(law), p, 0.0, TOL).unwrap();
             sim.set_input(InputId::FD, 8.0).unwrap();
             step_checked(sim.as_mut(), 1e-3, 5, true);

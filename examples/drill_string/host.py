@@ -6,12 +6,16 @@ and the string's axial vibration.
 - Lateral: an unbalanced section (mass m_l on the string's lateral stiffness k_l, damping c_l)
   whirls under its unbalance force m_e*e*Omega^2*cos(Omega*t). Where its displacement y exceeds
   the clearance, the wall pushes back: the side force F_N = k_w*(y - clearance), 0 off the wall.
-- Axial: the string vibrates axially at the contact, v_sx = a*w*cos(w*t) (bit bounce).
+- Axial: the string vibrates axially at the contact, v_sx = a*w*cos(w*t) (bit bounce), taken
+  as the motion of the surface the section rubs on (x along F_d, ground frame; a vibration of the
+  section itself would enter as -du/dt: only v_r = v - v_sx matters, docs/using.md).
 
 The contact FMU (DrillStringContact: LuGre, longitudinal, force drive) gets F_N and v_sx with
 their input derivatives at every communication point, is pushed along the hole by F_d, and returns
-the section's axial motion and the friction. The host applies the step mean F_Fx_step, the
-friction's impulse over the step, not a sample of a force that vibrates between samples.
+the section's axial motion and the friction. The FMU owns the section's mass m (the host must not
+integrate it again); for its own balance the host uses the step mean F_Fx_step, the friction's
+impulse over the step divided by the step, not a sample of a force that vibrates between samples.
+docs/using.md ("Coupling a drill string") shows the other pattern, where the host owns the mass.
 
     python examples/drill_string/host.py [--stop 0.5] [--step 2e-4] [--csv out.csv]
 

@@ -53,3 +53,30 @@ def core(scene, step, stop, sets=None, tolerance=None):
     rows = list(csv.reader(io.StringIO(out)))
     header, data = rows[0], np.array([[float(x) for x in r] for r in rows[1:]])
     return {name: data[:, k] for k, name in enumerate(header)}
+
+
+EXPECTED = "(expected: provoked on purpose by this passing test) "
+
+
+def label_expected(text):
+    """Marks the FMU's error lines in a passing test's captured output as expected: fmpy prints
+    every log message of an FMU as `[ERROR] ...`, and a negative test that passed got exactly
+    the refusals it asked for (fmpy raises on any error status the test did not catch)."""
+    return "\n".join(
+        line.replace("[ERROR] ", "[ERROR] " + EXPECTED, 1).replace("[DISCARD] ", "[DISCARD] " + EXPECTED, 1)
+        if line.startswith(("[ERROR] ", "[DISCARD] ")) else line
+        for line in text.split("\n")
+    )
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    """The `-rA` report of the test command shows each test's captured output: there, the
+    `[ERROR]` lines of negative tests that passed read as expected, not as failures."""
+    outcome = yield
+    report = outcome.get_result()
+    if report.passed:
+        report.sections = [
+            (title, label_expected(content) if title.startswith("Captured") else content)
+            for title, content in report.sections
+        ]

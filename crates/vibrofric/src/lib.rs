@@ -1,5 +1,5 @@
 //! vibrofric: the friction contact of a body sliding on a vibrating support (Leus & Gutowski,
-//! 2024), as FMI 2.0 and FMI 3.0 Co-Simulation FMUs: the library every FMU ships.
+//! 2024), as FMI 2.0 and FMI 3.0 FMUs for Co-Simulation and Model Exchange: the library every FMU ships.
 //!
 //! Layers, from the bottom up, each importing only those below it (`tests/layers.rs` checks;
 //! `docs/architecture.md` draws them):

@@ -4,11 +4,98 @@
 //! itself. Plain HTML with no script, readable offline in any browser: a partner who receives
 //! only the `.fmu` finds everything here.
 
-use crate::description::figure::SIGN_CONVENTION_SVG;
+use crate::description::figure::sign_convention_svg;
 use crate::description::scene::{drive_name, lateral_name, law_name, motion_name, summary, Scene};
 use crate::description::variables::{Causality, VarKind, Variable};
 use crate::description::xml::{self, DEFAULT_EXPERIMENT, DISPLAY_UNITS};
 use crate::table::{Drive, InputId, Law, Motion};
+
+/// The FMI standard a page speaks: the names of its calls, its identifier and its importer
+/// classes. The two editions of a scene share variables, value references and results.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edition {
+    Fmi2,
+    Fmi3,
+}
+
+impl Edition {
+    /// "2.0" or "3.0".
+    pub fn version(self) -> &'static str {
+        match self {
+            Edition::Fmi2 => "2.0",
+            Edition::Fmi3 => "3.0",
+        }
+    }
+
+    /// The call that passes the tolerance and the start time.
+    fn setup(self) -> &'static str {
+        match self {
+            Edition::Fmi2 => "<code>fmi2SetupExperiment</code>",
+            Edition::Fmi3 => "<code>fmi3EnterInitializationMode</code>",
+        }
+    }
+
+    /// The error status.
+    fn error(self) -> &'static str {
+        match self {
+            Edition::Fmi2 => "<code>fmi2Error</code>",
+            Edition::Fmi3 => "<code>fmi3Error</code>",
+        }
+    }
+
+    /// The call that gives an input's time derivative (FMI 3.0 Co-Simulation has none).
+    fn input_derivatives(self) -> Option<&'static str> {
+        match self {
+            Edition::Fmi2 => Some("<code>fmi2SetRealInputDerivatives</code>"),
+            Edition::Fmi3 => None,
+        }
+    }
+
+    fn output_derivatives(self) -> &'static str {
+        match self {
+            Edition::Fmi2 => "<code>fmi2GetRealOutputDerivatives</code>",
+            Edition::Fmi3 => "<code>fmi3GetOutputDerivatives</code>",
+        }
+    }
+
+    fn directional_derivative(self) -> &'static str {
+        match self {
+            Edition::Fmi2 => "<code>fmi2GetDirectionalDerivative</code>",
+            Edition::Fmi3 => "<code>fmi3GetDirectionalDerivative</code>",
+        }
+    }
+
+    /// How an input is carried over a communication step.
+    fn input_hold(self) -> String {
+        match self.input_derivatives() {
+            Some(call) => {
+                format!("held over a step, or extrapolated linearly when {call} gives a derivative")
+            }
+            None => "held over each communication step (FMI 3.0 has no input derivatives for \
+                 Co-Simulation)"
+                .to_string(),
+        }
+    }
+}
+
+/// A text shared by both editions (a variable's or log category's description) with the
+/// edition's status names (`fmi2Discard` is `fmi3Discard` in FMI 3.0).
+fn in_words_of(ed: Edition, text: &str) -> String {
+    match ed {
+        Edition::Fmi2 => text.to_string(),
+        Edition::Fmi3 => text.replace("fmi2", "fmi3"),
+    }
+}
+
+/// A number as Python reads it as a float (`2000.0`, `2e-7`, `0.001`).
+fn py_float(x: f64) -> String {
+    let s = xml::number(x);
+    if s.contains(['.', 'e', 'i', 'N']) {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
 
 /// Escapes text for HTML element content and attribute values.
 pub fn escape(s: &str) -> String {
@@ -67,7 +154,7 @@ fn range_html(v: &Variable, c: &crate::table::Config) -> String {
 }
 
 /// The equations of the scene's configuration, as HTML list items.
-fn equations(scene: &Scene) -> Vec<String> {
+fn equations(scene: &Scene, ed: Edition) -> Vec<String> {
     let c = &scene.config;
     let planar = c.motion == Motion::Planar;
     let mut eq = vec![];
@@ -100,6 +187,22 @@ fn equations(scene: &Scene) -> Vec<String> {
         Law::LuGre => {
             eq.push("LuGre law (Eqs. 2, 4–7): <code>F_F = k_t·s + h_t(v_r)·ds/dt + h_v·v_r</code>, <code>ds/dt = v_r − |v_r|·s/g(v_r)</code>.".to_string());
             eq.push("<code>g(v_r) = (F_C + (F_S − F_C)·exp(−(|v_r|/v_S)²))/k_t</code>, <code>h_t(v_r) = 2·zeta_t·sqrt(m·k_t)·exp(−(|v_r|/v_e)²)</code>.".to_string());
+            let p = &scene.start;
+            if p.reference_f_c() > 0.0 {
+                eq.push(format!(
+                "The static force follows the load: <code>F_S</code> and <code>zeta_t</code> are given at this scene's load (<code>F_N</code> = {} N, <code>mu</code> = {}: <code>F_C</code> = {} N, <code>F_S/F_C</code> = {}); at any other <code>F_N</code> or <code>mu</code> the law uses the static force <code>F_S·(F_N/{})·(mu/{})</code>, which keeps <code>F_S/F_C</code>, and the damping ratio <code>zeta_t·F_N/{}</code>. A static force below the Coulomb force at this load (<code>F_S</code> &lt; {} N) would invert the Stribeck curve and is refused.",
+                xml::number(p.f_n_ref),
+                xml::number(p.mu_ref),
+                xml::number(p.reference_f_c()),
+                xml::number((p.f_s / p.reference_f_c() * 1e4).round() / 1e4),
+                xml::number(p.f_n_ref),
+                xml::number(p.mu_ref),
+                xml::number(p.f_n_ref),
+                xml::number(p.reference_f_c()),
+            ));
+            } else {
+                eq.push("This scene starts without load (<code>F_C</code> = 0): <code>F_S</code> and <code>zeta_t</code> are taken as they are, at every load.".to_string());
+            }
         }
     }
     eq.push("The support acts on the body with <code>−F_F</code>.".to_string());
@@ -153,7 +256,10 @@ fn equations(scene: &Scene) -> Vec<String> {
         } else {
             ""
         };
-        eq.push(format!("Input support motion: {which} set by the importer{sum}; held over a step, or extrapolated linearly when <code>fmi2SetRealInputDerivatives</code> gives a derivative."));
+        eq.push(format!(
+            "Input support motion: {which} set by the importer{sum}; {}.",
+            ed.input_hold()
+        ));
     }
     let window = if c.harmonic {
         "the excitation period <code>1/f</code> (<code>T_avg</code> when f = 0)"
@@ -167,9 +273,9 @@ fn equations(scene: &Scene) -> Vec<String> {
     };
     eq.push(format!("<code>F_mean</code>: exact mean of <code>F_Fx</code> over the most recently completed averaging window (Eq. 11), {window}; the mean since start until a first window completes.{reduction}"));
     eq.push("<code>P_diss = F_F·v_r − d(k_t·|s|²/2)/dt</code>: the power dissipated in the contact (never negative for Dahl and Dupont).".to_string());
-    eq.push("<code>F_Fx_step</code>, <code>F_Fy_step</code>: the exact mean of each friction component over the last communication step, <code>∫F dt/h</code>: the impulse a host that integrates the body itself applies, without sampling a force that vibrates between its samples. First-order output derivatives (<code>fmi2GetRealOutputDerivatives</code>) are exact for <code>x</code>, <code>y</code>, <code>v_x</code>, <code>v_y</code>, <code>s_x</code>, <code>s_y</code> and the step means (as moving means over the last step).".to_string());
+    eq.push(format!("<code>F_Fx_step</code>, <code>F_Fy_step</code>: the exact mean of each friction component over the last communication step, <code>∫F dt/h</code>: the impulse a host that integrates the body itself applies, without sampling a force that vibrates between its samples. First-order output derivatives ({}) are exact for <code>x</code>, <code>y</code>, <code>v_x</code>, <code>v_y</code>, <code>s_x</code>, <code>s_y</code> and the step means (as moving means over the last step).", ed.output_derivatives()));
     if c.normal_input {
-        eq.push("Normal force: <code>F_N</code> is an input (held, or extrapolated with its derivative); <code>F_C = mu·F_N(t)</code> and what follows from it change with it, and LuGre's <code>F_S</code> and <code>zeta_t</code> are given at the start value of <code>F_N</code> and scale with the load. A negative <code>F_N</code> is refused; below the tolerance times the start value the body has lifted off: no friction, no deformation, until the load returns.".to_string());
+        eq.push(format!("Normal force: <code>F_N</code> is an input ({}); <code>F_C = mu·F_N(t)</code> and what follows from it change with it, and LuGre's <code>F_S</code> and <code>zeta_t</code> are given at the start value of <code>F_N</code> and follow the load as a parameter <code>F_N</code> makes them (a held input gives the numbers of the same scene with that <code>F_N</code> as a parameter). A negative <code>F_N</code> is refused; below the tolerance times the start value the body has lifted off: no friction, no deformation, until the load returns.", ed.input_hold()));
     }
     eq
 }
@@ -191,8 +297,13 @@ pub struct Binary {
 }
 
 /// How to choose the parameters of this scene: the guidance a user needs before a first run,
-/// as HTML list items.
+/// as HTML list items (FMI 2.0 names).
 pub fn guidance(scene: &Scene) -> Vec<String> {
+    guidance_for(scene, Edition::Fmi2)
+}
+
+/// [`guidance`] in the words of an edition.
+pub fn guidance_for(scene: &Scene, ed: Edition) -> Vec<String> {
     let c = &scene.config;
     let p = &scene.start;
     let mut g = vec![];
@@ -209,21 +320,27 @@ pub fn guidance(scene: &Scene) -> Vec<String> {
         xml::number((s_ss * 1e6 * 1e4).round() / 1e4)
     ));
     if c.law == Law::LuGre {
-        g.push(
+        let excitation = if c.harmonic {
+            "under a fast vibration"
+        } else {
+            "under a fast excitation through <code>v_sx</code>"
+        };
+        g.push(format!(
             "<code>zeta_t</code> (LuGre): damping ratio of the contact's tangential mode, \
-            <code>h_t = 2·zeta_t·sqrt(m·k_t)</code>. The default 1 (critical damping, the paper's \
-            Eq. 6) adds <code>h_t·ds/dt</code> to <code>F_F</code>: under a fast vibration \
-            <code>ds/dt</code> follows the support velocity and this viscous term makes \
-            <code>F_Fx</code> swing beyond <code>F_S</code> within each period, although \
-            <code>F_mean</code> stays right (in <code>contact-lugre.toml</code>, 2 kHz, 0.2 µm, \
-            <code>F_d</code> = 8 N: <code>F_Fx</code> between −16.1 and 15.8 N at \
-            <code>zeta_t</code> = 1, between 0.4 and 11.6 N at 0.1, <code>F_mean</code> = 8 N in \
-            both). For a contact whose force should stay within <code>F_S</code>, take \
-            <code>zeta_t</code> of 0.01–0.1, or a smaller <code>v_e</code>, which switches the \
-            damping off once the contact slides (<code>v_e</code> = 1e-4 m/s at \
-            <code>zeta_t</code> = 1: −0.7 to 11.8 N)."
-                .to_string(),
-        );
+            <code>h_t = 2·zeta_t·sqrt(m·k_t)</code> (here {zeta}, <code>h_t</code> = {h_t} N·s/m \
+            at rest). The default 1 (critical damping, the paper's Eq. 6) adds \
+            <code>h_t·ds/dt</code> to <code>F_F</code>: {excitation} <code>ds/dt</code> follows \
+            the support velocity and this viscous term makes <code>F_Fx</code> swing beyond \
+            <code>F_S</code> within each period, although <code>F_mean</code> stays right. For a \
+            contact whose force should stay within <code>F_S</code>, take <code>zeta_t</code> of \
+            0.01–0.1, or a smaller <code>v_e</code>, which switches the damping off once the \
+            contact slides. How far <code>F_Fx</code> swings in this FMU at its start values, at \
+            <code>zeta_t</code> = 0.1 and at <code>v_e</code> = 1e-4 m/s: the second snippet \
+            under <i>Running it</i> measures it (it prints the range of <code>F_Fx</code> and \
+            <code>F_mean</code> for each).",
+            zeta = xml::number(p.zeta_t),
+            h_t = xml::number((2.0 * p.zeta_t * (p.m * p.k_t).sqrt()).round()),
+        ));
     }
     let window = if c.harmonic {
         "with the harmonic source on (<code>f</code> &gt; 0) the averaging window is its period \
@@ -244,81 +361,219 @@ pub fn guidance(scene: &Scene) -> Vec<String> {
         "<code>T_avg</code>: {window}{input} <code>F_mean</code> is updated at the end of each \
          window."
     ));
-    g.push(
-        "Tolerance (<code>fmi2SetupExperiment</code>, default 1e-6): the relative tolerance \
+    g.push(format!(
+        "Tolerance ({}, default 1e-6): the relative tolerance \
         of the internal integrator. The error of <code>F_mean</code> is of the order of \
         tolerance × <code>F_C</code> or smaller; 1e-4 suits system simulation, 1e-8 sweeps that \
-        compare small differences of <code>F_mean</code>."
+        compare small differences of <code>F_mean</code>.",
+        ed.setup()
+    ));
+    let hold = match ed.input_derivatives() {
+        Some(call) => format!(
+            "passing input derivatives ({call}) makes the inputs linear in time within a step"
+        ),
+        None => "FMI 3.0 holds the inputs over each step (the FMI 2.0 edition of this scene \
+                 also takes their derivatives)"
             .to_string(),
-    );
-    g.push(
+    };
+    let period = if c.harmonic && p.f > 0.0 {
+        format!(
+            " (here {} s, one period of the {} Hz vibration)",
+            xml::number(1.0 / p.f),
+            xml::number(p.f)
+        )
+    } else {
+        format!(" (here <code>T_avg</code> = {} s)", xml::number(p.t_avg))
+    };
+    g.push(format!(
         "Communication step: the FMU resolves every vibration period inside a step, so the \
         step follows what the importer needs, not the vibration. <code>F_mean</code> and \
-        <code>reduction</code> change once per averaging window: a step of one or a few windows \
+        <code>reduction</code> change once per averaging window: a step of one or a few windows{period} \
         shows them fully. To see the waveform of <code>F_Fx</code>, use a step of at most 1/20 of \
         the vibration period. When the FMU is coupled to a host model through its inputs, the \
-        step must resolve the host's dynamics; passing input derivatives \
-        (<code>fmi2SetRealInputDerivatives</code>) makes the inputs linear in time within a step."
-            .to_string(),
-    );
+        step must resolve the host's dynamics; {hold}."
+    ));
     g
 }
 
-/// A Python (fmpy) snippet that runs this FMU.
-pub fn usage_snippet(scene: &Scene) -> String {
+/// The communication step of the page's snippets: one vibration period with the harmonic source
+/// on, else one averaging window `T_avg`; and the words that say which.
+fn snippet_step(scene: &Scene) -> (f64, &'static str) {
+    let p = &scene.start;
+    if scene.config.harmonic && p.f > 0.0 {
+        (1.0 / p.f, "one vibration period, 1/f")
+    } else {
+        (p.t_avg, "one averaging window, T_avg")
+    }
+}
+
+/// The scene's own start values that the snippets pass, as a template to change: its inputs
+/// (but the support velocities) and the harmonic source's amplitude and frequency.
+fn snippet_start(scene: &Scene) -> Vec<String> {
     let c = &scene.config;
-    let id = &scene.model_identifier;
-    let outputs: Vec<&str> = scene
+    scene
+        .variables()
+        .filter(|v| {
+            let input = v.causality(c) == Causality::Input
+                && !matches!(v.kind, VarKind::Input(InputId::VSx | InputId::VSy));
+            input || (c.harmonic && matches!(v.name(), "u0" | "f"))
+        })
+        .filter_map(|v| {
+            scene
+                .start_of(v)
+                .map(|x| format!("\"{}\": {}", v.name(), py_float(x)))
+        })
+        .collect()
+}
+
+/// The outputs the snippets print.
+fn snippet_outputs(scene: &Scene) -> Vec<&'static str> {
+    let c = &scene.config;
+    scene
         .variables()
         .filter(|v| v.causality(c) == Causality::Output)
         .map(|v| v.name())
         .filter(|n| ["F_Fx", "F_mean", "reduction"].contains(n))
-        .collect();
-    let mut start = vec![];
-    if c.harmonic {
-        start.push("\"u0\": 0.5e-6".to_string());
-    }
-    if c.input_support && !c.harmonic {
-        start.push("\"T_avg\": 0.05".to_string());
-    }
-    let input_present = |i: InputId| {
-        scene
-            .variables()
-            .any(|v| v.kind == VarKind::Input(i) && v.causality(c) == Causality::Input)
-    };
-    if input_present(InputId::VD) {
-        start.push("\"v_d\": 2e-3".to_string());
-    }
-    if input_present(InputId::FD) {
-        start.push("\"F_d\": 8.0".to_string());
-    }
+        .collect()
+}
+
+/// A Python (fmpy) snippet that runs this FMU (FMI 2.0).
+pub fn usage_snippet(scene: &Scene) -> String {
+    usage_snippet_for(scene, Edition::Fmi2)
+}
+
+/// A Python (fmpy) snippet that runs this FMU, in the calls of an edition: `simulate_fmu` with
+/// the scene's start values and a step that fits its vibration, and with input support motion a
+/// co-simulation loop that sets the support velocity before every step.
+pub fn usage_snippet_for(scene: &Scene, ed: Edition) -> String {
+    let c = &scene.config;
+    let id = &scene.model_identifier;
+    let outputs = snippet_outputs(scene);
+    let (step, which) = snippet_step(scene);
     let mut py = String::new();
     py.push_str("# pip install fmpy\nfrom fmpy import simulate_fmu\n\n");
     py.push_str(&format!(
-        "res = simulate_fmu(\n    \"{id}.fmu\",\n    stop_time=0.1,\n    output_interval=1e-3,  # the communication step of a co-simulation\n    relative_tolerance=1e-6,\n    start_values={{{}}},\n    output={:?},\n)\n",
-        start.join(", "),
+        "res = simulate_fmu(\n    \"{id}.fmu\",\n    stop_time=0.1,\n    output_interval={},  # the communication step: {which}\n    relative_tolerance=1e-6,\n    start_values={{{}}},  # this scene's start values\n    output={:?},\n)\n",
+        xml::number(step),
+        snippet_start(scene).join(", "),
         outputs
     ));
-    py.push_str(&format!(
-        "print(res[\"time\"][-1], res[\"{}\"][-1])\n",
-        outputs.first().copied().unwrap_or("time")
-    ));
-    if input_present(InputId::VSx) {
-        py.push_str("\n# A co-simulation loop: the importer sets the support velocity v_sx before every\n# step, with its derivative, so that the FMU extrapolates it linearly within the step.\nimport math\nimport shutil\n\nfrom fmpy import extract, read_model_description\nfrom fmpy.fmi2 import FMU2Slave\n\n");
-        py.push_str(&format!(
-            "md = read_model_description(\"{id}.fmu\")\nvr = {{v.name: v.valueReference for v in md.modelVariables}}\nunzipdir = extract(\"{id}.fmu\")\nfmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,\n                modelIdentifier=md.coSimulation.modelIdentifier, instanceName=\"contact\")\n"
-        ));
-        py.push_str("fmu.instantiate()\nfmu.setupExperiment(tolerance=1e-6, startTime=0.0)\nf_ex, amplitude = 20.0, 0.05  # the excitation: 20 Hz, 50 mm/s\n");
-        if c.harmonic {
-            py.push_str("# F_mean averages over the built-in vibration's period 1/f (T_avg only when f = 0)\n");
-        } else {
-            py.push_str("fmu.setReal([vr[\"T_avg\"]], [1.0 / f_ex])  # F_mean over one period of the excitation\n");
-        }
-        py.push_str("fmu.enterInitializationMode()\nfmu.exitInitializationMode()\nh, w = 1e-3, 2 * math.pi * f_ex\n");
-        py.push_str("for k in range(500):\n    t = k * h\n    fmu.setReal([vr[\"v_sx\"]], [amplitude * math.sin(w * t)])\n    fmu.setRealInputDerivatives([vr[\"v_sx\"]], [1], [amplitude * w * math.cos(w * t)])\n    fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)\n");
-        py.push_str("print(\"F_mean =\", fmu.getReal([vr[\"F_mean\"]])[0])\nfmu.terminate()\nfmu.freeInstance()\nshutil.rmtree(unzipdir)\n");
+    for o in &outputs {
+        py.push_str(&format!("print(\"{o} =\", res[\"{o}\"][-1])\n"));
     }
+    if !c.input_support {
+        return py;
+    }
+    py.push_str(
+        "\n# A co-simulation loop: the importer sets the support velocity v_sx before every step",
+    );
+    match ed {
+        Edition::Fmi2 => py.push_str(
+            ",\n# with its derivative, so that the FMU extrapolates it linearly within the step.\n",
+        ),
+        Edition::Fmi3 => py.push_str(
+            ";\n# FMI 3.0 holds it over the step: the value at the step's middle is the best constant.\n",
+        ),
+    }
+    py.push_str("import math\nimport shutil\n\nfrom fmpy import extract, read_model_description\n");
+    let (slave, token, set, get, setup) = match ed {
+        Edition::Fmi2 => (
+            "from fmpy.fmi2 import FMU2Slave",
+            "md.guid",
+            "setReal",
+            "getReal",
+            "fmu.setupExperiment(tolerance=1e-6, startTime=0.0)\n",
+        ),
+        Edition::Fmi3 => (
+            "from fmpy.fmi3 import FMU3Slave",
+            "md.instantiationToken",
+            "setFloat64",
+            "getFloat64",
+            "",
+        ),
+    };
+    let class = &slave[slave.len() - 9..];
+    py.push_str(&format!("{slave}\n\n"));
+    py.push_str(&format!(
+        "md = read_model_description(\"{id}.fmu\")\nvr = {{v.name: v.valueReference for v in md.modelVariables}}\nunzipdir = extract(\"{id}.fmu\")\nfmu = {class}(guid={token}, unzipDirectory=unzipdir,\n                modelIdentifier=md.coSimulation.modelIdentifier, instanceName=\"contact\")\n"
+    ));
+    py.push_str(&format!(
+        "fmu.instantiate()\n{setup}f_ex, amplitude = 20.0, 0.05  # the excitation: 20 Hz, 50 mm/s\n"
+    ));
+    if c.harmonic {
+        py.push_str(
+            "# F_mean averages over the built-in vibration's period 1/f (T_avg only when f = 0)\n",
+        );
+    } else {
+        py.push_str(&format!(
+            "fmu.{set}([vr[\"T_avg\"]], [1.0 / f_ex])  # F_mean over one period of the excitation\n"
+        ));
+    }
+    match ed {
+        Edition::Fmi2 => py.push_str("fmu.enterInitializationMode()\n"),
+        Edition::Fmi3 => {
+            py.push_str("fmu.enterInitializationMode(tolerance=1e-6, startTime=0.0)\n")
+        }
+    }
+    py.push_str("fmu.exitInitializationMode()\nh, w = 1e-3, 2 * math.pi * f_ex\nfor k in range(500):\n    t = k * h\n");
+    match ed {
+        Edition::Fmi2 => py.push_str("    fmu.setReal([vr[\"v_sx\"]], [amplitude * math.sin(w * t)])\n    fmu.setRealInputDerivatives([vr[\"v_sx\"]], [1], [amplitude * w * math.cos(w * t)])\n"),
+        Edition::Fmi3 => py.push_str("    fmu.setFloat64([vr[\"v_sx\"]], [amplitude * math.sin(w * (t + h / 2))])\n"),
+    }
+    py.push_str("    fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)\n");
+    py.push_str(&format!(
+        "print(\"F_mean =\", fmu.{get}([vr[\"F_mean\"]])[0])\nfmu.terminate()\nfmu.freeInstance()\nshutil.rmtree(unzipdir)\n"
+    ));
     py
+}
+
+/// A snippet that measures how far LuGre's `F_Fx` swings within the vibration periods at the
+/// scene's start values, at `zeta_t` = 0.1 and at `v_e` = 1e-4 m/s (the page's guidance points
+/// to it). Without a harmonic source it imposes the co-simulation loop's excitation through
+/// `v_sx`.
+pub fn swing_snippet(scene: &Scene) -> String {
+    let id = &scene.model_identifier;
+    let p = &scene.start;
+    let mut py = String::new();
+    let cases = "cases = {\"start values\": {}, \"zeta_t = 0.1\": {\"zeta_t\": 0.1}, \"v_e = 1e-4 m/s\": {\"v_e\": 1e-4}}\n";
+    if scene.config.harmonic && p.f > 0.0 {
+        let period = 1.0 / p.f;
+        py.push_str("from fmpy import simulate_fmu\n\n# F_Fx sampled 40 times per vibration period over 20 periods; the last 10 are kept.\n");
+        py.push_str(cases);
+        py.push_str(&format!(
+            "for label, values in cases.items():\n    r = simulate_fmu(\"{id}.fmu\", stop_time={}, output_interval={},\n                     start_values=values, output=[\"F_Fx\", \"F_mean\"])\n",
+            xml::number(20.0 * period),
+            xml::number(period / 40.0)
+        ));
+    } else {
+        py.push_str("import numpy as np\nfrom fmpy import simulate_fmu\n\n# The loop's excitation, 20 Hz and 50 mm/s, as an input signal; F_Fx sampled every\n# 0.1 ms over 10 periods, the last 5 kept; F_mean over one period of the excitation.\n");
+        py.push_str("t = np.linspace(0.0, 0.5, 5001)\nsignal = np.array(list(zip(t, 0.05 * np.sin(2 * np.pi * 20.0 * t))),\n                  dtype=[(\"time\", float), (\"v_sx\", float)])\n");
+        py.push_str(cases);
+        py.push_str(&format!(
+            "for label, values in cases.items():\n    r = simulate_fmu(\"{id}.fmu\", stop_time=0.5, output_interval=1e-4, input=signal,\n                     start_values={{\"T_avg\": 0.05, **values}}, output=[\"F_Fx\", \"F_mean\"])\n"
+        ));
+    }
+    py.push_str("    late = r[\"F_Fx\"][len(r) // 2:]\n    print(f\"{label}: F_Fx from {late.min():.1f} to {late.max():.1f} N, F_mean = {r['F_mean'][-1]:.2f} N\")\n");
+    py
+}
+
+/// A Model Exchange run through fmpy's own integrator.
+fn model_exchange_snippet(scene: &Scene) -> String {
+    let (step, _) = snippet_step(scene);
+    let p = &scene.start;
+    let stop = if scene.config.harmonic && p.f > 0.0 {
+        20.0 / p.f
+    } else {
+        0.1
+    };
+    let out = snippet_outputs(scene);
+    let first = out.first().copied().unwrap_or("F_Fx");
+    format!(
+        "from fmpy import simulate_fmu\n\nresult = simulate_fmu(\n    \"{}.fmu\",\n    fmi_type=\"ModelExchange\",  # fmpy's CVode integrates the FMU's states\n    relative_tolerance=1e-8,\n    stop_time={},\n    output_interval={},\n)\nprint(\"{first} =\", result[\"{first}\"][-1])\n",
+        scene.model_identifier,
+        xml::number(stop),
+        xml::number(step)
+    )
 }
 
 /// The platform section: the library of each platform inside the FMU and what it needs.
@@ -376,7 +631,7 @@ fn platform_html(scene: &Scene, binaries: &[Binary]) -> String {
 }
 
 /// What an importer that integrates the FMU itself (Model Exchange) gets.
-fn model_exchange_html(scene: &Scene) -> String {
+fn model_exchange_html(scene: &Scene, ed: Edition) -> String {
     let names = |kind: fn(&VarKind) -> bool| {
         scene
             .variables()
@@ -387,12 +642,14 @@ fn model_exchange_html(scene: &Scene) -> String {
     };
     let states = names(|k| matches!(k, VarKind::State(_)));
     let indicators = names(|k| matches!(k, VarKind::Indicator(_)));
+    let instantiate = match ed {
+        Edition::Fmi2 => "<code>fmi2Instantiate</code> with <code>fmi2ModelExchange</code>",
+        Edition::Fmi3 => "<code>fmi3InstantiateModelExchange</code>",
+    };
     format!(
-        "<h2>Model Exchange</h2>\n<p>Instantiated for Model Exchange (FMI 2.0 or 3.0), the FMU hands its continuous states to the importer's integrator: {states}, with their derivatives <code>der(...)</code>, the same equations the Co-Simulation solver integrates. Event indicators {indicators} change sign at the kinks of the friction law, shifted by a band of the tolerance so that a stuck contact hovering at <code>v_r = 0</code> gives no train of events; time events end the averaging windows of <code>F_mean</code>. Directional derivatives are exact (closed form). Without communication steps, <code>F_Fx_step</code> and <code>F_Fy_step</code> equal <code>F_Fx</code> and <code>F_Fy</code>.</p>\n<pre>{}</pre>\n",
-        escape(&format!(
-            "from fmpy import simulate_fmu\nresult = simulate_fmu('{}.fmu', fmi_type='ModelExchange',\n                      relative_tolerance=1e-8, stop_time=0.1)",
-            scene.model_identifier
-        ))
+        "<h2>Model Exchange</h2>\n<p>This FMU offers Model Exchange as well as Co-Simulation. Instantiated for Model Exchange ({instantiate}), it hands its continuous states to the importer's integrator: {states}, with their derivatives <code>der(...)</code>, the same equations the Co-Simulation solver integrates. Event indicators {indicators} change sign at the kinks of the friction law, shifted by a band of the tolerance so that a stuck contact hovering at <code>v_r = 0</code> gives no train of events; time events end the averaging windows of <code>F_mean</code>. Directional derivatives ({}) are exact (closed form). Without communication steps, <code>F_Fx_step</code> and <code>F_Fy_step</code> equal <code>F_Fx</code> and <code>F_Fy</code>. With fmpy:</p>\n<pre class=\"python\">{}</pre>\n",
+        ed.directional_derivative(),
+        escape(&model_exchange_snippet(scene))
     )
 }
 
@@ -413,45 +670,46 @@ pub fn index_html(scene: &Scene) -> String {
     )
 }
 
-/// The documentation page of the FMI 3.0 edition of a scene's FMU: the FMI 2.0 page, whose
-/// calls map one to one onto FMI 3.0's, with that mapping said up front.
+/// The documentation page of the FMI 3.0 edition of a scene's FMU that ships `binaries`: the
+/// FMI 2.0 page's content in FMI 3.0's calls, with FMI 3.0 snippets.
 pub fn index_html_fmi3(scene: &Scene, binaries: &[Binary]) -> String {
-    let page = index_html_for(scene, binaries);
-    page.replacen(
-        "<p>FMI 2.0 Co-Simulation FMU generated by",
-        "<p><b>FMI 3.0 edition.</b> The same FMU as the FMI 2.0 one of this scene (same variables, \
-         value references and results, instantiation token = the FMI 2.0 GUID), for FMI 3.0 \
-         importers. Where this page names an FMI 2.0 function, FMI 3.0 has: \
-         <code>fmi3InstantiateCoSimulation</code> (without event mode), \
-         <code>fmi3EnterInitializationMode</code> (tolerance, start and stop time; \
-         <code>fmi2SetupExperiment</code>), <code>fmi3GetFloat64</code>/<code>fmi3SetFloat64</code> \
-         (<code>fmi2GetReal</code>/<code>fmi2SetReal</code>), <code>fmi3GetOutputDerivatives</code>, \
-         <code>fmi3DoStep</code>, <code>fmi3GetFMUState</code> and the rest of the state functions. \
-         Input derivatives have no FMI 3.0 call: inputs are held over a step.</p>\n<p>Generated as an \
-         FMI 2.0 Co-Simulation FMU by",
-        1,
-    )
+    page(scene, binaries, Edition::Fmi3)
 }
 
-/// The documentation page of a scene's FMU that ships `binaries`.
+/// The documentation page of the FMI 2.0 edition of a scene's FMU that ships `binaries`.
 pub fn index_html_for(scene: &Scene, binaries: &[Binary]) -> String {
+    page(scene, binaries, Edition::Fmi2)
+}
+
+/// The documentation page of one edition of a scene's FMU.
+fn page(scene: &Scene, binaries: &[Binary], ed: Edition) -> String {
     let c = &scene.config;
     let id = escape(&scene.model_identifier);
+    let v = ed.version();
     let mut h = String::new();
     h.push_str("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
-    h.push_str(&format!("<title>{id}: vibrofric FMU</title>\n"));
+    h.push_str(&format!("<title>{id}: vibrofric FMU (FMI {v})</title>\n"));
     h.push_str("<style>body{font-family:sans-serif;max-width:60em;margin:2em auto;padding:0 1em;line-height:1.4}table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:.2em .5em;text-align:left;vertical-align:top}code,pre{background:#f4f4f4}pre{padding:.5em;overflow-x:auto}</style>\n");
     h.push_str("</head>\n<body>\n");
     h.push_str(&format!(
         "<h1>{id}</h1>\n<p>{}</p>\n",
         escape(&scene.description)
     ));
+    let token = match ed {
+        Edition::Fmi2 => "GUID",
+        Edition::Fmi3 => "instantiation token",
+    };
     h.push_str(&format!(
-        "<p>FMI 2.0 Co-Simulation FMU generated by {} (GUID <code>{}</code>). {}.</p>\n",
+        "<p>FMI {v} FMU for Co-Simulation and Model Exchange, generated by {} ({token} <code>{}</code>). {}.</p>\n",
         escape(&xml::generation_tool()),
         escape(&xml::guid(scene)),
         escape(&summary(c))
     ));
+    let other = match ed {
+        Edition::Fmi2 => "<p>The FMI 3.0 edition of this scene has the same variables, value references and results for FMI 3.0 importers.</p>\n",
+        Edition::Fmi3 => "<p>The FMI 2.0 edition of this scene has the same variables, value references and results (its GUID is this instantiation token) for FMI 2.0 importers; it also takes input derivatives.</p>\n",
+    };
+    h.push_str(other);
     h.push_str(&format!(
         "<p>Scene: law <code>{}</code>, motion <code>{}</code>, drive <code>{}</code>{}, support motion {}.</p>\n",
         law_name(c.law),
@@ -471,11 +729,11 @@ pub fn index_html_for(scene: &Scene, binaries: &[Binary]) -> String {
     h.push_str("<p>The model is the friction contact of a body sliding on a support that vibrates in the sliding plane, after Leus and Gutowski, “Friction force reduction efficiency in sliding motion under tangential vibrations of elastic support”, Acta Mechanica et Automatica, 2024 (equation numbers are the paper's).</p>\n");
 
     h.push_str("<h2>Sign convention</h2>\n");
-    h.push_str(SIGN_CONVENTION_SVG);
+    h.push_str(&sign_convention_svg(c.planar()));
     h.push_str("<p><code>F_F</code> is the friction force in the paper's convention: it resists the relative velocity <code>v_r = v − v_s</code>, and the support acts on the body with <code>−F_F</code>. While the body slides towards +x relative to the support, <code>F_Fx</code> &gt; 0; under a velocity drive <code>F_Fx</code> is the force that keeps the body at <code>v_d</code>.</p>\n");
 
     h.push_str("<h2>Equations</h2>\n<ul>\n");
-    for e in equations(scene) {
+    for e in equations(scene, ed) {
         h.push_str(&format!("<li>{e}</li>\n"));
     }
     h.push_str("</ul>\n");
@@ -495,39 +753,52 @@ pub fn index_html_for(scene: &Scene, binaries: &[Binary]) -> String {
             display_unit_html(v),
             if matches!(causality, Causality::Output | Causality::Local) { "(calculated)".into() } else { start_html(scene, v) },
             range_html(v, c),
-            escape(v.description)
+            escape(&in_words_of(ed, v.description))
         ));
     }
     h.push_str("</table>\n");
-    h.push_str("<p>Parameters with variability <code>tunable</code> may change between communication steps; the harmonic source stays continuous in phase. Parameters out of their physical range are refused with <code>fmi2Error</code> and a log message naming the rule.</p>\n");
+    h.push_str(&format!("<p>Parameters with variability <code>tunable</code> may change between communication steps; the harmonic source stays continuous in phase. Parameters out of their physical range are refused with {} and a log message naming the rule.</p>\n", ed.error()));
 
     let (t0, t1, tol, step) = DEFAULT_EXPERIMENT;
     h.push_str(&format!(
-        "<h2>Default experiment</h2>\n<p>From {} s to {} s, relative tolerance {}, communication step {} s. The internal solver integrates exactly to every communication point and uses the tolerance given to <code>fmi2SetupExperiment</code> when it is defined.</p>\n",
+        "<h2>Default experiment</h2>\n<p>From {} s to {} s, relative tolerance {}, communication step {} s. The internal solver integrates exactly to every communication point and uses the tolerance given to {} when it is defined.</p>\n",
         xml::number(t0),
         xml::number(t1),
         xml::number(tol),
-        xml::number(step)
+        xml::number(step),
+        ed.setup()
     ));
     h.push_str("<h2>Choosing the parameters</h2>\n<ul>\n");
-    for g in guidance(scene) {
+    for g in guidance_for(scene, ed) {
         h.push_str(&format!("<li>{g}</li>\n"));
     }
     h.push_str("</ul>\n");
 
-    h.push_str("<h2>Running it</h2>\n<p>With <a href=\"https://github.com/CATIA-Systems/FMPy\">fmpy</a> (<code>pip install fmpy</code>). For a Co-Simulation FMU the communication step is fmpy's <code>output_interval</code> (<code>--output-interval</code> on fmpy's command line); <code>step_size</code> is for Model Exchange only.</p>\n");
-    h.push_str(&format!("<pre>{}</pre>\n", escape(&usage_snippet(scene))));
+    let (step, _) = snippet_step(scene);
+    h.push_str(&format!("<h2>Running it</h2>\n<p>With <a href=\"https://github.com/CATIA-Systems/FMPy\">fmpy</a> (<code>pip install fmpy</code>), which reads FMI {v} FMUs like this one. For Co-Simulation the communication step is fmpy's <code>output_interval</code> (<code>--output-interval</code> on fmpy's command line); <code>step_size</code> is for Model Exchange only. The snippets use this scene's start values and a step of {}; the file is this FMU, <code>{id}.fmu</code>.</p>\n", escape(snippet_step(scene).1)));
     h.push_str(&format!(
-        "<p>From the command line: <code>fmpy simulate {}.fmu --output-interval 1e-3 --stop-time 0.1</code>. The variable table above gives every name and value reference; value references are the same in every vibrofric FMU.</p>\n",
-        escape(&scene.model_identifier)
+        "<pre class=\"python\">{}</pre>\n",
+        escape(&usage_snippet_for(scene, ed))
     ));
-    h.push_str(&model_exchange_html(scene));
+    if c.law == Law::LuGre {
+        h.push_str("<p>How far <code>F_Fx</code> swings within the periods (see <code>zeta_t</code> above):</p>\n");
+        h.push_str(&format!(
+            "<pre class=\"python\">{}</pre>\n",
+            escape(&swing_snippet(scene))
+        ));
+    }
+    h.push_str(&format!(
+        "<p>From the command line: <code class=\"shell\">fmpy simulate {id}.fmu --output-interval {} --stop-time 0.1</code>. The variable table above gives every name and value reference; value references are the same in every vibrofric FMU.</p>\n",
+        xml::number(step)
+    ));
+    h.push_str(&model_exchange_html(scene, ed));
     h.push_str(&platform_html(scene, binaries));
 
     h.push_str("<h2>Logging</h2>\n<ul>\n");
     for c in crate::description::log::Category::ALL {
         let (name, d) = (c.name(), c.description());
-        h.push_str(&format!("<li><code>{name}</code>: {}</li>\n", escape(d)));
+        let d = in_words_of(ed, d);
+        h.push_str(&format!("<li><code>{name}</code>: {}</li>\n", escape(&d)));
     }
     h.push_str("</ul>\n");
 

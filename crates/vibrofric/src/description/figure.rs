@@ -1,6 +1,7 @@
 //! The sign-convention picture, drawn by hand as SVG: shown inline in every FMU's
-//! `documentation/index.html` and checked in as `docs/sign-convention.svg` (the drift test in
-//! `tests/docs_reference.rs` keeps the two equal).
+//! `documentation/index.html` (a longitudinal scene's page without the planar top view) and
+//! checked in as `docs/sign-convention.svg` (the drift test in `tests/docs_reference.rs` keeps
+//! the two equal).
 
 /// The picture: a side view of the body on the vibrating support with the forces and the
 /// positive directions, and a top view with the vibration direction `angle`.
@@ -66,3 +67,50 @@ pub const SIGN_CONVENTION_SVG: &str = r##"<svg xmlns="http://www.w3.org/2000/svg
 <text x="630" y="276">F_F = (F_Fx, F_Fy), s = (s_x, s_y)</text>
 </svg>
 "##;
+
+/// The picture for a scene's page: the whole of [`SIGN_CONVENTION_SVG`] for a planar scene; for
+/// a longitudinal one, the side view alone (no top view, no `y`), on a narrower canvas.
+pub fn sign_convention_svg(planar: bool) -> String {
+    if planar {
+        return SIGN_CONVENTION_SVG.to_string();
+    }
+    let side = SIGN_CONVENTION_SVG
+        .split("<!-- top view -->")
+        .next()
+        .unwrap_or(SIGN_CONVENTION_SVG);
+    let side = side
+        .replace(
+            r#"width="900" height="370" viewBox="0 0 900 370""#,
+            r#"width="640" height="370" viewBox="0 0 640 370""#,
+        )
+        .replace(
+            r#"<rect x="0" y="0" width="900""#,
+            r#"<rect x="0" y="0" width="640""#,
+        )
+        .replace("<text x=\"22\" y=\"76\">y: out of the page</text>\n", "")
+        .replace("v = (v_x, v_y)", "v = v_x")
+        .replace(
+            "(plus v_sx, v_sy from the importer",
+            "(plus v_sx from the importer",
+        );
+    format!("{side}</svg>\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn longitudinal_picture_has_no_top_view_and_stays_well_formed() {
+        let planar = sign_convention_svg(true);
+        assert_eq!(planar, SIGN_CONVENTION_SVG);
+        assert!(planar.contains("Top view (planar scenes)"));
+        let l = sign_convention_svg(false);
+        assert!(!l.contains("Top view") && !l.contains("angle") && !l.contains("v_sy"));
+        assert!(!l.contains("y: out of the page") && l.contains("v = v_x"));
+        assert!(l.contains("Side view") && l.contains("viewBox=\"0 0 640 370\""));
+        assert!(l.trim_end().ends_with("</svg>"));
+        assert_eq!(l.matches("<svg").count(), 1);
+        assert_eq!(l.matches("</svg>").count(), 1);
+    }
+}

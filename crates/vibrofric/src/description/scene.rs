@@ -94,7 +94,7 @@ pub const KEY_HELP: [(&str, &str, &str); 10] = [
     (
         "normal",
         "default: `\"parameter\"`",
-        "The normal force `F_N`: a tunable `parameter`, or a continuous `input` from the host (held or extrapolated with its input derivative; `F_C = mu·F_N(t)` and what follows from it change with it; LuGre's `F_S` and `zeta_t` are given at `F_N`'s start value and scale with the load; a negative `F_N` is refused, and below the tolerance times the start value the body has lifted off: no friction, no deformation). Its value reference is 2 in either case.",
+        "The normal force `F_N`: a tunable `parameter`, or a continuous `input` from the host (held or extrapolated with its input derivative; `F_C = mu·F_N(t)` and what follows from it change with it; LuGre's `F_S` and `zeta_t` are given at `F_N`'s start value and follow the load as with a parameter `F_N`; a negative `F_N` is refused, and below the tolerance times the start value the body has lifted off: no friction, no deformation). Its value reference is 2 in either case.",
     ),
     (
         "outputs",
@@ -736,6 +736,19 @@ impl Scene {
 
         // An input F_N starts at the value its variable states.
         inputs.f_n = start.f_n;
+        // The scene's load is the one at which LuGre's F_S and zeta_t are given; a static force
+        // below the Coulomb force there inverts the law.
+        start.set_reference();
+        if config.law == Law::LuGre {
+            if let Some(why) = start.static_force_inverted() {
+                let at = start_entries
+                    .iter()
+                    .find(|(k, _)| ["F_S", "F_N", "mu"].contains(&k.get_ref().as_str()))
+                    .map(|(k, _)| k.span());
+                let shown = Some(crate::table::number(start.f_s));
+                return Err(ctx.err(at.as_ref(), "start.F_S", shown, why, vec![]));
+            }
+        }
 
         // description
         let description = match get("description") {
@@ -1104,11 +1117,11 @@ v_d = 5e-4
     fn start_value_out_of_range() {
         assert_eq!(
             err(&planar("", "k_t = -1e8")),
-            "bad.toml:8: start.k_t = -1e8: must be finite and > 0 (accepted: 1e2 to 1e13 N/m)"
+            "bad.toml:8: start.k_t = -1e8: must be finite and > 0 (accepted: 100 to 1e13 N/m)"
         );
         assert_eq!(
             err(&planar("", "mu = -0.1")),
-            "bad.toml:8: start.mu = -0.1: must be finite and >= 0 (accepted: 0e0 to 1e1)"
+            "bad.toml:8: start.mu = -0.1: must be finite and >= 0 (accepted: 0 to 10)"
         );
         assert_eq!(
             err(&planar("", "m = nan")),
@@ -1116,11 +1129,11 @@ v_d = 5e-4
         );
         assert_eq!(
             err(&planar("", "v_sx = inf").replace("[\"harmonic\"]", "[\"input\"]")),
-            "bad.toml:8: start.v_sx = inf: must be finite (accepted: -1e3 to 1e3 m/s)"
+            "bad.toml:8: start.v_sx = inf: must be finite (accepted: -1000 to 1000 m/s)"
         );
         assert_eq!(
             err(&planar("", "f = 1e8")),
-            "bad.toml:8: start.f = 1e8: must be in [0e0, 1e7] Hz"
+            "bad.toml:8: start.f = 1e8: must be in [0, 1e7] Hz"
         );
         assert_eq!(
             err(&planar("", "m = \"heavy\"")),
@@ -1129,7 +1142,7 @@ v_d = 5e-4
         let dupont = planar("", "r_ba = 1").replace("dahl", "dupont");
         assert_eq!(
             err(&dupont),
-            "bad.toml:8: start.r_ba = 1: must be in [0e0, 9.99e-1]"
+            "bad.toml:8: start.r_ba = 1: must be in [0, 0.999]"
         );
     }
 

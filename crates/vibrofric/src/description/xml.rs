@@ -69,12 +69,7 @@ const UNIT_ORDER: [&str; 14] = [
 /// A number as the model description writes it: shortest round-trip form, with an exponent for
 /// very small or large magnitudes.
 pub fn number(x: f64) -> String {
-    let a = x.abs();
-    if a != 0.0 && !(1e-3..1e6).contains(&a) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
+    crate::table::number(x)
 }
 
 /// 1-based `ModelVariables` indices of the variables with these value references, sorted.

@@ -27,20 +27,19 @@ pub(super) fn lift_off(reference: &Params, rtol: f64) -> f64 {
     }
 }
 
-/// The parameters at the normal force `f_n`, from those at the reference load: `F_N` replaced,
-/// LuGre's static force `F_S` and contact damping `zeta_t` scaled with it, so that every
-/// friction force of the contact is proportional to the load (a static coefficient, and damping
-/// by the asperities in contact). `F_C = mu·F_N` and everything the laws derive from it
-/// (`s_ss`, LuGre's `g`) follow. Without the scaling of the damping, LuGre's `h_t·ds/dt` would
-/// grow without bound against `k_t·s` as the load, and with it `g`, tends to 0.
+/// The parameters at the normal force `f_n`: `F_N` replaced. LuGre's static force `F_S` and
+/// contact damping `zeta_t` follow the load as with a parameter `F_N` ([`Params::static_force`],
+/// [`Params::damping_ratio`]), so that every friction force of the contact is proportional to
+/// the load. `F_C = mu·F_N` and everything the laws derive from it (`s_ss`, LuGre's `g`) follow.
+/// Without the scaling of the damping, LuGre's `h_t·ds/dt` would grow without bound against
+/// `k_t·s` as the load, and with it `g`, tends to 0.
 pub(super) fn loaded(reference: &Params, f_n: f64) -> Params {
     let mut p = *reference;
-    if reference.f_n > 0.0 {
-        let ratio = f_n / reference.f_n;
-        p.f_s = reference.f_s * ratio;
-        p.zeta_t = reference.zeta_t * ratio;
-    } else {
-        p.f_s = reference.mu * f_n; // no reference load: no Stribeck peak, F_S = F_C
+    // The input's start value is the reference load (a scene's start value of F_N).
+    p.f_n_ref = reference.f_n;
+    if reference.f_n <= 0.0 {
+        // No reference load: no Stribeck peak, F_S = F_C, taken as it is.
+        p.f_s = reference.mu * f_n;
     }
     p.f_n = f_n;
     p

@@ -74,6 +74,11 @@ pub fn build_on(
             id.check_in(id.get(&params), &config)?;
         }
     }
+    if config.law == Law::LuGre {
+        if let Some(why) = params.static_force_inverted() {
+            return Err(SimError::Inconsistent(why));
+        }
+    }
     if !(tolerance.is_finite() && tolerance > 0.0) {
         return Err(SimError::Tolerance(tolerance));
     }

@@ -5,7 +5,7 @@ use super::state::ContactState;
 use super::time::MAX_INPUT_RATE;
 use crate::physics::{ParamError, ParamId, Params};
 use crate::solver::SolverError;
-use crate::table::{Config, InputId, Inputs, OutputId, Outputs, StateId};
+use crate::table::{number, Config, InputId, Inputs, OutputId, Outputs, StateId};
 
 /// Why a simulator refused a call. The simulator is unchanged when an error is returned.
 #[derive(Clone, Debug, PartialEq)]
@@ -30,6 +30,8 @@ pub enum SimError {
     Solver(SolverError),
     /// A saved state that does not belong to this configuration.
     BadSnapshot(String),
+    /// Parameters that each obey their rule but not together (the text names them).
+    Inconsistent(String),
     /// A continuous state set by a Model Exchange importer that is not finite.
     State { name: &'static str, value: f64 },
 }
@@ -44,14 +46,17 @@ impl std::fmt::Display for SimError {
             ),
             SimError::Input { id, value } => write!(
                 f,
-                "{} = {value}: {}",
+                "{} = {}: {}",
                 id.name(),
+                number(*value),
                 id.rule().text(*value, id.unit())
             ),
             SimError::InputDerivative { id, value } => write!(
                 f,
-                "derivative of {} = {value}: must be finite and at most {MAX_INPUT_RATE:e} {}/s in magnitude",
+                "derivative of {} = {}: must be finite and at most {} {}/s in magnitude",
                 id.name(),
+                number(*value),
+                number(MAX_INPUT_RATE),
                 id.unit()
             ),
             SimError::NoSuchInput(n) => write!(f, "{n}: this scene has no such input"),
@@ -63,13 +68,22 @@ impl std::fmt::Display for SimError {
             }
             SimError::Time { now, target } => write!(
                 f,
-                "step target time {target} must be finite and later than the current time {now}"
+                "step target time {} must be finite and later than the current time {}",
+                number(*target),
+                number(*now)
             ),
-            SimError::Tolerance(t) => write!(f, "tolerance = {t}: must be finite and > 0"),
+            SimError::Tolerance(t) => {
+                write!(f, "tolerance = {}: must be finite and > 0", number(*t))
+            }
             SimError::Solver(e) => write!(f, "{e}"),
             SimError::BadSnapshot(why) => write!(f, "state does not fit this instance: {why}"),
+            SimError::Inconsistent(why) => write!(f, "{why}"),
             SimError::State { name, value } => {
-                write!(f, "{name} = {value}: a continuous state must be finite")
+                write!(
+                    f,
+                    "{name} = {}: a continuous state must be finite",
+                    number(*value)
+                )
             }
         }
     }

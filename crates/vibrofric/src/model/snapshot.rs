@@ -69,6 +69,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 .and_then(|_| id.set(&mut params, value))
                 .map_err(|e| SimError::BadSnapshot(format!("parameter {e}")))?;
         }
+        // The reference load is the scene's: it cannot change during a simulation.
+        if (s.params.f_n_ref, s.params.mu_ref) != (self.params.f_n_ref, self.params.mu_ref) {
+            return bad("taken from another scene (reference load)".into());
+        }
+        (params.f_n_ref, params.mu_ref) = (self.params.f_n_ref, self.params.mu_ref);
         for (t, id) in s.tracks.iter().zip(InputId::ALL) {
             if id.present(&self.config) && !id.rule().holds(t.value) {
                 return bad(format!(

@@ -426,9 +426,9 @@ impl FrictionLaw for LuGre {
         LuGre {
             k_t: p.k_t,
             f_c: p.f_c(),
-            f_s: p.f_s,
+            f_s: p.static_force(),
             inv_v_s2: 1.0 / (p.v_s * p.v_s),
-            h_t0: 2.0 * p.zeta_t * (p.m * p.k_t).sqrt(),
+            h_t0: 2.0 * p.damping_ratio() * (p.m * p.k_t).sqrt(),
             inv_v_e2: 1.0 / (p.v_e * p.v_e),
             h_v: p.h_v,
         }

@@ -39,11 +39,20 @@ macro_rules! parameters {
         #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
         pub struct Params {
             $( #[doc = $description] $(#[doc = $doc])* pub $field: f64, )*
+            /// The reference load, not a variable: the normal force at which the load-scaled
+            /// parameters are given (a scene's start value of `F_N`; see
+            /// [`Params::set_reference`]).
+            pub f_n_ref: f64,
+            /// The friction coefficient of the reference load (a scene's start value of `mu`).
+            pub mu_ref: f64,
         }
 
         impl Default for Params {
+            /// The declared defaults, which are also the reference load.
             fn default() -> Self {
-                Params { $( $field: $default, )* }
+                let mut p = Params { $( $field: $default, )* f_n_ref: 0.0, mu_ref: 0.0 };
+                p.set_reference();
+                p
             }
         }
 

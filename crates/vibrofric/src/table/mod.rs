@@ -20,7 +20,7 @@ mod table;
 
 pub use config::{Config, Drive, Lateral, Law, Motion};
 pub use dependencies::{Dependency, Depends};
-pub use rule::{ParamError, Rule, Sign};
+pub use rule::{number, ParamError, Rule, Sign};
 pub use states::{force_knowns, rate_knowns, velocity_knowns, IndicatorId, Known, StateId};
 pub use table::{InputId, Inputs, OutputId, Outputs, ParamId, Params};
 
@@ -83,6 +83,40 @@ impl ParamId {
 }
 
 impl Params {
+    /// Makes the present load (`F_N`, `mu`) the reference load: the one at which LuGre's static
+    /// force `F_S` and contact damping ratio `zeta_t` are given. A scene calls it once its start
+    /// values are read; at any other load they scale with it (`Params::static_force`,
+    /// `Params::damping_ratio`).
+    pub fn set_reference(&mut self) {
+        self.f_n_ref = self.f_n;
+        self.mu_ref = self.mu;
+    }
+
+    /// The Coulomb force of the reference load, `mu_ref·F_N_ref`: the load at which `F_S` and
+    /// `zeta_t` are given (a scene's start values of `mu` and `F_N`).
+    pub fn reference_f_c(&self) -> f64 {
+        self.mu_ref * self.f_n_ref
+    }
+
+    /// The combination of parameters a LuGre contact refuses: a static force below the Coulomb
+    /// force at the reference load (`F_S < F_C`) would turn the Stribeck curve upside down
+    /// (friction rising with speed). The text names both; `None` when consistent.
+    pub fn static_force_inverted(&self) -> Option<String> {
+        let f_c = self.reference_f_c();
+        (self.f_s < f_c).then(|| {
+            format!(
+                "F_S = {} N is below the Coulomb force F_C = mu·F_N = {} N (mu = {}, F_N = {} N, \
+                 the load at which F_S is given): LuGre's static force must be at least F_C, \
+                 else the Stribeck curve is inverted (friction rising with speed); F_S scales \
+                 with mu·F_N, keeping F_S/F_C",
+                number(self.f_s),
+                number(f_c),
+                number(self.mu_ref),
+                number(self.f_n_ref)
+            )
+        })
+    }
+
     /// Checks every parameter against its rule.
     pub fn validate(&self) -> Result<(), ParamError> {
         for id in ParamId::ALL {
@@ -111,7 +145,7 @@ mod tests {
         assert_eq!(err.name, "k_t");
         assert_eq!(
             err.to_string(),
-            "k_t = 0e0: must be finite and > 0 (accepted: 1e2 to 1e13 N/m)"
+            "k_t = 0: must be finite and > 0 (accepted: 100 to 1e13 N/m)"
         );
         assert_eq!(p, Params::default());
         assert!(ParamId::RBa.set(&mut p, 1.0).is_err());

@@ -1,6 +1,19 @@
 //! What values a parameter or input accepts: a sign physics imposes and the closed range the FMU
 //! accepts ([`Rule`]), and the error that names a broken one ([`ParamError`]).
 
+/// A number as a person writes it, in messages and in the model description: plain decimals
+/// from 0.001 to below a million (`-1`, `-0.5`, `0`, `14.3`, `2000`), the shortest exponent form
+/// outside (`2e-7`, `1e13`, `-3.5e-9`); each the shortest text that reads back as the same `f64`.
+/// Non-finite values print as `NaN`, `inf`, `-inf`.
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if a.is_finite() && a != 0.0 && !(1e-3..1e6).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 /// What physics forbids outright.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Sign {
@@ -75,9 +88,17 @@ impl Rule {
                 Sign::Any => false,
             };
         if broken_sign {
-            format!("{sign} (accepted: {:e} to {:e}{unit})", self.min, self.max)
+            format!(
+                "{sign} (accepted: {} to {}{unit})",
+                number(self.min),
+                number(self.max)
+            )
         } else {
-            format!("must be in [{:e}, {:e}]{unit}", self.min, self.max)
+            format!(
+                "must be in [{}, {}]{unit}",
+                number(self.min),
+                number(self.max)
+            )
         }
     }
 
@@ -110,8 +131,84 @@ impl ParamError {
 
 impl std::fmt::Display for ParamError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} = {:e}: {}", self.name, self.value, self.rule_text())
+        write!(
+            f,
+            "{} = {}: {}",
+            self.name,
+            number(self.value),
+            self.rule_text()
+        )
     }
 }
 
 impl std::error::Error for ParamError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_read_as_a_person_writes_them_and_round_trip() {
+        for (x, text) in [
+            (-1.0, "-1"),
+            (-0.5, "-0.5"),
+            (0.0, "0"),
+            (-0.0, "-0"),
+            (2e-7, "2e-7"),
+            (14.3, "14.3"),
+            (0.001, "0.001"),
+            (0.000999, "9.99e-4"),
+            (999_999.0, "999999"),
+            (1e6, "1e6"),
+            (1e13, "1e13"),
+            (-3.5e-9, "-3.5e-9"),
+            (0.999, "0.999"),
+            (f64::NAN, "NaN"),
+            (f64::INFINITY, "inf"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
+            assert_eq!(number(x), text, "{x:e}");
+            if x.is_finite() {
+                assert_eq!(
+                    text.parse::<f64>().unwrap().to_bits(),
+                    x.to_bits(),
+                    "{text}"
+                );
+            }
+        }
+        // The shortest text that reads back exactly, never a rounded one.
+        let x = 0.1 + 0.2;
+        assert_eq!(number(x), "0.30000000000000004");
+    }
+
+    #[test]
+    fn errors_name_the_value_and_the_range_in_plain_numbers() {
+        let e = ParamError {
+            name: "k_t",
+            value: -1.0,
+            rule: positive(1e2, 1e13),
+            unit: "N/m",
+        };
+        assert_eq!(
+            e.to_string(),
+            "k_t = -1: must be finite and > 0 (accepted: 100 to 1e13 N/m)"
+        );
+        let e = ParamError {
+            name: "r_ba",
+            value: 1.0,
+            rule: non_negative(0.0, 0.999),
+            unit: "1",
+        };
+        assert_eq!(e.to_string(), "r_ba = 1: must be in [0, 0.999]");
+        let e = ParamError {
+            name: "mu",
+            value: -0.5,
+            rule: non_negative(0.0, 10.0),
+            unit: "1",
+        };
+        assert_eq!(
+            e.to_string(),
+            "mu = -0.5: must be finite and >= 0 (accepted: 0 to 10)"
+        );
+    }
+}

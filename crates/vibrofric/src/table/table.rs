@@ -70,7 +70,7 @@ parameters! {
         rule: non_negative(0.0, 1e9),
         variability: Fixed,
         present: |c| c.law == Law::LuGre,
-        description: "LuGre static friction force",
+        description: "LuGre static friction force at the scene's load (start values of F_N and mu); the law scales it with mu*F_N, keeping F_S/F_C; F_S < F_C there is refused",
     }
     VS => v_s {
         name: "v_S", vr: 8, unit: "m/s", display: Some("mm/s"), default: 1e-3,
@@ -84,7 +84,7 @@ parameters! {
         rule: non_negative(0.0, 1e3),
         variability: Fixed,
         present: |c| c.law == Law::LuGre,
-        description: "LuGre contact damping ratio (Eq. 6)",
+        description: "LuGre contact damping ratio (Eq. 6) at the scene's load (start value of F_N); the law scales it with F_N",
     }
     HV => h_v {
         name: "h_v", vr: 10, unit: "N.s/m", display: None, default: 0.0,
