@@ -26,6 +26,7 @@ use crate::description::variables::{by_vr, Causality, VarKind, Variability, Vari
 use crate::description::xml;
 use crate::model::{self, InputId, OutputId, Outputs, SimError, Simulator, StateId};
 use crate::physics::ParamId;
+use crate::table::number;
 use crate::table::IndicatorId;
 
 /// The FMU instance.
@@ -376,7 +377,11 @@ impl Instance {
                     Status::Warning,
                     Category::StatusWarning,
                     &format!(
-                        "{f}: tolerance = {asked:e} is outside [{lo:e}, {hi:e}], the range the integrators resolve: using {used:e} [instance \"{}\"]",
+                        "{f}: tolerance = {} is outside [{}, {}], the range the integrators resolve: using {} [instance \"{}\"]",
+                        number(asked),
+                        number(lo),
+                        number(hi),
+                        number(used),
                         self.name
                     ),
                 );
@@ -744,8 +749,9 @@ impl Instance {
                 return self.fail(
                     f,
                     format!(
-                        "derivative of {name} = {value}: must be finite and at most {:e} {}/s in magnitude (vr {vr})",
-                        model::MAX_INPUT_RATE,
+                        "derivative of {name} = {}: must be finite and at most {} {}/s in magnitude (vr {vr})",
+                        number(value),
+                        number(model::MAX_INPUT_RATE),
                         id.unit()
                     ),
                 );

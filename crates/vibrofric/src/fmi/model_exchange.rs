@@ -9,6 +9,7 @@ use super::status::Status;
 use crate::description::variables::{Causality, VarKind};
 use crate::model::{Inputs, OutputId, StateId, StateVector};
 use crate::physics::ParamId;
+use crate::table::number;
 
 /// What `fmi2NewDiscreteStates` (`fmi3UpdateDiscreteStates`) reports.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -40,7 +41,7 @@ impl Instance {
         let x = sim.states();
         self.states
             .iter()
-            .map(|id| format!("{} = {:e}", id.name(), x[id.index()]))
+            .map(|id| format!("{} = {}", id.name(), number(x[id.index()])))
             .collect::<Vec<_>>()
             .join(", ")
     }
@@ -100,8 +101,9 @@ impl Instance {
             Err(_) => self.fail(
                 call.name,
                 format!(
-                    "time = {t}: must be finite and within {:e} averaging windows of the start time",
-                    crate::model::WINDOWS_MAX
+                    "time = {}: must be finite and within {} averaging windows of the start time",
+                    number(t),
+                    number(crate::model::WINDOWS_MAX)
                 ),
             ),
         }

@@ -17,6 +17,7 @@ use super::staging::Staged;
 use super::state::{Interface, State};
 use crate::model::{self, ContactState, InputId};
 use crate::physics::ParamId;
+use crate::table::number;
 
 /// A saved FMU state: the state machine's state, the staged values and the simulator's
 /// complete state. Restoring it, also into another instance of the same FMU or after
@@ -141,9 +142,10 @@ fn check(s: &FmuState) -> Result<(), String> {
         if let Some(d) = d {
             if !(d.is_finite() && d.abs() <= model::MAX_INPUT_RATE) {
                 return Err(format!(
-                    "serialized derivative of {} = {d}: must be finite and at most {:e} in magnitude",
+                    "serialized derivative of {} = {}: must be finite and at most {} in magnitude",
                     id.name(),
-                    model::MAX_INPUT_RATE
+                    number(d),
+                    number(model::MAX_INPUT_RATE)
                 ));
             }
         }
@@ -158,7 +160,10 @@ fn check(s: &FmuState) -> Result<(), String> {
         let (lo, hi) = model::TOLERANCE_RANGE;
         if !(lo..=hi).contains(&t) {
             return Err(format!(
-                "serialized tolerance = {t}: must be in [{lo:e}, {hi:e}]"
+                "serialized tolerance = {}: must be in [{}, {}]",
+                number(t),
+                number(lo),
+                number(hi)
             ));
         }
     }
