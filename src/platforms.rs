@@ -602,3 +602,24 @@ fn check_exports(shipped: &[Shipped]) -> Result<(), String> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn platform_lists_are_read_with_their_errors() {
+        assert_eq!(Request::parse("available"), Ok(Request::Available));
+        assert_eq!(
+            Request::parse("all"),
+            Ok(Request::Required(Platform::ALL.to_vec()))
+        );
+        assert_eq!(
+            Request::parse("win64, linux64,win64"),
+            Ok(Request::Required(vec![Platform::Win64, Platform::Linux64]))
+        );
+        let e = Request::parse("linux64,macos").unwrap_err();
+        assert!(e.contains("unknown platform \"macos\""), "{e}");
+        assert!(e.contains("linux64, win64, darwin64"), "{e}");
+    }
+}

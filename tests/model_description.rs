@@ -757,13 +757,26 @@ fn exporter_writes_a_complete_fmu() {
     let exe = env!("CARGO_BIN_EXE_vibrofric");
     let out = std::env::temp_dir().join(format!("vibrofric-export-test-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out);
+    // The host's library only (the cross builds are the test command's export, tests/all.sh).
     let run = std::process::Command::new(exe)
         .current_dir(root())
-        .args(["export", "scenes/paper-longitudinal.toml", "--out"])
+        .env("VIBROFRIC_PORTABLE", "0")
+        .args([
+            "export",
+            "scenes/paper-longitudinal.toml",
+            "--platforms",
+            "linux64",
+        ])
+        .arg("--out")
         .arg(&out)
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&run.stderr);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        stdout.contains("platforms in each FMU: linux64\n"),
+        "{stdout}"
+    );
     // The cdylib is built with the tests (the harness loads it too): its absence is a failure,
     // not a reason to skip.
     assert!(
