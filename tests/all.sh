@@ -8,10 +8,19 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 step_no=0
+# A line a minute while a step runs, so that no stretch of the run is silent (single crates of
+# the examples compile for minutes, the fuzz campaign runs for a minute without output).
+ticker=""
+stop_ticker() { if [ -n "$ticker" ]; then kill "$ticker" 2>/dev/null || true; ticker=""; fi; }
+trap stop_ticker EXIT
 step() {
+    stop_ticker
     step_no=$((step_no + 1))
     echo
     echo "==> [$step_no/9] $* (at $((SECONDS / 60))m$((SECONDS % 60))s)"
+    local n=$step_no
+    (while sleep 60; do echo "    ... step $n/9 still running (at $((SECONDS / 60))m$((SECONDS % 60))s)"; done) &
+    ticker=$!
 }
 
 # Rust: cargo must be at least Cargo.toml's rust-version (Debian's cargo 1.63 is not).
@@ -37,7 +46,7 @@ if [ ! -x .venv/bin/python ] || ! cat "${reqs[@]}" | cmp -s - .venv/.requirement
         echo "error: the tests need Python >= 3.11 with venv (Debian: python3 python3-venv); found: $("${PYTHON:-python3}" --version 2>&1 || echo none). Set PYTHON=/path/to/python3.11 to choose one." >&2
         exit 1
     fi
-    echo "installing the pinned packages of ${reqs[*]} from PyPI (about 250 MB download, 1-2 min)"
+    echo "installing the pinned packages of ${reqs[*]} from PyPI (about 250 MB download)"
     "${PYTHON:-python3}" -m venv .venv
     .venv/bin/python -m pip install --disable-pip-version-check --progress-bar off "${reqs[@]/#/-r}"
     .venv/bin/python -c 'import fmpy, libcosimpy, ecospy, ziglang' # fail here if pip did not install them
@@ -94,4 +103,5 @@ bash tests/cross/test.sh dist
 
 step "fmpy tests (tests/python)"
 .venv/bin/python -m pytest tests/python -q -rA -p no:cacheprovider
+stop_ticker
 echo "all tests passed in $((SECONDS / 60))m$((SECONDS % 60))s"
