@@ -25,6 +25,7 @@ from macholib.MachO import MachO
 from macholib.SymbolTable import SymbolTable
 
 from conftest import DIST
+from test_platform import elf_sections
 
 FMI2 = {"linux64": "so", "win64": "dll", "darwin64": "dylib"}
 FMI3 = {"x86_64-linux": "so", "x86_64-windows": "dll", "x86_64-darwin": "dylib",
@@ -42,15 +43,7 @@ IDS = [f"fmi2-{f.stem}" for f in FMUS2] + [f"fmi3-{f.stem}" for f in FMUS3]
 
 def elf_fmi_exports(data):
     """The defined global `fmi2*`/`fmi3*` symbols of an ELF64 library's .dynsym."""
-    shoff, = struct.unpack_from("<Q", data, 0x28)
-    shentsize, shnum = struct.unpack_from("<HH", data, 0x3A)
-    sections = []
-    for i in range(shnum):
-        off = shoff + i * shentsize
-        sh_type, = struct.unpack_from("<I", data, off + 4)
-        sh_offset, sh_size = struct.unpack_from("<QQ", data, off + 0x18)
-        sh_link, = struct.unpack_from("<I", data, off + 0x28)
-        sections.append((sh_type, sh_offset, sh_size, sh_link))
+    sections = elf_sections(data)
     names = set()
     for sh_type, off, size, link in sections:
         if sh_type != 11:  # SHT_DYNSYM

@@ -21,8 +21,8 @@ GLIBC_LIBRARIES = {"libc.so.6", "libm.so.6", "libpthread.so.0", "libdl.so.2", "l
                    "ld-linux-x86-64.so.2", "libgcc_s.so.1"}
 
 
-def elf_needs(data):
-    """(DT_NEEDED names, version-need names) of a 64-bit little-endian ELF file."""
+def elf_sections(data):
+    """(type, offset, size, link) of each section header of a 64-bit little-endian ELF file."""
     assert data[:4] == b"\x7fELF" and data[4] == 2 and data[5] == 1, "not ELF64 little-endian"
     shoff, = struct.unpack_from("<Q", data, 0x28)
     shentsize, shnum = struct.unpack_from("<HH", data, 0x3A)
@@ -33,6 +33,12 @@ def elf_needs(data):
         sh_offset, sh_size = struct.unpack_from("<QQ", data, off + 0x18)
         sh_link, = struct.unpack_from("<I", data, off + 0x28)
         sections.append((sh_type, sh_offset, sh_size, sh_link))
+    return sections
+
+
+def elf_needs(data):
+    """(DT_NEEDED names, version-need names) of a 64-bit little-endian ELF file."""
+    sections = elf_sections(data)
 
     def cstr(off):
         return data[off:data.index(b"\0", off)].decode()

@@ -6,7 +6,7 @@
 //! `cargo run --release -p vibrofric-import --example run_fmus -- dist`
 //!
 //! Each FMU runs its default experiment from its scene's start values (0.1 s, communication step
-//! 1 ms), twice: the second time with 0.37 ms steps and, where the FMU has them, the inputs `F_d`
+//! 1 ms) with every output read at every point, twice: the second time with 0.37 ms steps and, where the FMU has them, the inputs `F_d`
 //! and `v_sx` set to other values than their start values.
 
 use std::path::{Path, PathBuf};
@@ -14,24 +14,6 @@ use std::process::ExitCode;
 
 use vibrofric_import::fmi3::Fmu3;
 use vibrofric_import::Fmu;
-
-/// The outputs compared, where an FMU has them.
-const OUTPUTS: [&str; 14] = [
-    "F_Fx",
-    "F_Fy",
-    "x",
-    "y",
-    "v_x",
-    "v_y",
-    "s_x",
-    "s_y",
-    "F_mean",
-    "reduction",
-    "P_diss",
-    "F_Fx_step",
-    "F_Fy_step",
-    "F_d",
-];
 
 fn fmus(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -43,15 +25,15 @@ fn fmus(dir: &Path) -> Result<Vec<PathBuf>, String> {
     Ok(v)
 }
 
-/// Whether the model description declares `name` with causality "input" (`F_d` is an output
-/// under a spring drive).
-fn is_input(xml: &str, name: &str) -> bool {
+/// The causality the model description gives the variable `name` (`F_d` is an input under a
+/// force drive, an output under a spring drive).
+fn causality<'a>(xml: &'a str, name: &str) -> Option<&'a str> {
     let key = format!("name=\"{name}\"");
-    xml.match_indices(&key).any(|(at, _)| {
-        let start = xml[..at].rfind('<').unwrap_or(0);
-        let end = xml[at..].find('>').map_or(xml.len(), |e| at + e);
-        xml[start..end].contains("causality=\"input\"")
-    })
+    let at = xml.find(&key)?;
+    let end = xml[at..].find('>').map_or(xml.len(), |e| at + e);
+    let tag = &xml[xml[..at].rfind('<').unwrap_or(0)..end];
+    let rest = &tag[tag.find("causality=\"")? + "causality=\"".len()..];
+    rest.split('"').next()
 }
 
 fn print_rows(label: &str, rows: &[Vec<f64>]) {
@@ -69,12 +51,18 @@ fn run(dir: &Path) -> Result<usize, String> {
     for path in fmus(dir)? {
         let fmu = Fmu::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let d = &fmu.description;
-        let outputs: Vec<u32> = OUTPUTS.iter().filter_map(|o| d.vr(o)).collect();
         let xml = std::fs::read_to_string(fmu.dir.join("modelDescription.xml"))
             .map_err(|e| format!("{}: {e}", path.display()))?;
+        // Every output; FMI 3.0 repeats the names and value references of FMI 2.0.
+        let outputs: Vec<u32> = d
+            .variables
+            .iter()
+            .filter(|(name, _)| causality(&xml, name) == Some("output"))
+            .map(|(_, vr)| *vr)
+            .collect();
         let inputs: Vec<(u32, f64)> = [("F_d", 7.5), ("v_sx", 1e-3)]
             .iter()
-            .filter(|(name, _)| is_input(&xml, name))
+            .filter(|(name, _)| causality(&xml, name) == Some("input"))
             .filter_map(|(name, v)| d.vr(name).map(|vr| (vr, *v)))
             .collect();
         let id = d.model_identifier.clone();
