@@ -423,10 +423,19 @@ impl FrictionLaw for LuGre {
     const PLANAR_SWITCH: bool = false;
 
     fn new(p: &Params) -> Self {
+        // As Dahl's and Dupont's: a contact whose largest deformation, max(F_C, F_S)/k_t, is at
+        // most NO_FRICTION_LENGTH (a subnormal load, F_S scaling with it) has no dry friction;
+        // its relaxation rate |v_r|/g would be beyond any integrator.
+        let (f_c, f_s) = (p.f_c(), p.static_force());
+        let (f_c, f_s) = if f_c.max(f_s) / p.k_t > NO_FRICTION_LENGTH {
+            (f_c, f_s)
+        } else {
+            (0.0, 0.0)
+        };
         LuGre {
             k_t: p.k_t,
-            f_c: p.f_c(),
-            f_s: p.static_force(),
+            f_c,
+            f_s,
             inv_v_s2: 1.0 / (p.v_s * p.v_s),
             h_t0: 2.0 * p.damping_ratio() * (p.m * p.k_t).sqrt(),
             inv_v_e2: 1.0 / (p.v_e * p.v_e),
