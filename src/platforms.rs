@@ -533,16 +533,14 @@ fn macos(cargo: &Cargo) -> Result<Shipped, Missing> {
             }
             v
         });
-    let doc = |folders| {
-        docs::Binary {
+    let doc = |folders, layout: &str| docs::Binary {
         folders,
         file_ext: "dylib",
         os: Platform::Darwin64.os(),
         requirement: format!(
-            "macOS {deployment} or later; FMI 2.0's <code>darwin64</code> holds one universal library (x86_64 and arm64 slices), which Intel and Apple-silicon Macs both load; the arm64 code carries an ad-hoc signature"
+            "macOS {deployment} or later; {layout}; the arm64 code carries an ad-hoc signature"
         ),
         libraries: libraries.clone(),
-    }
     };
     Ok(Shipped {
         platform: Platform::Darwin64,
@@ -553,8 +551,14 @@ fn macos(cargo: &Cargo) -> Result<Shipped, Missing> {
             facts.summary()
         ),
         fmi2: universal,
-        doc2: doc(vec!["darwin64"]),
-        doc3: doc(vec!["x86_64-darwin", "aarch64-darwin"]),
+        doc2: doc(
+            vec!["darwin64"],
+            "one universal library (x86_64 and arm64 slices), which Intel and Apple-silicon Macs both load",
+        ),
+        doc3: doc(
+            vec!["x86_64-darwin", "aarch64-darwin"],
+            "one library per processor (Intel: x86_64-darwin, Apple silicon: aarch64-darwin)",
+        ),
     })
 }
 

@@ -198,6 +198,19 @@ fn fmu_pages_carry_the_picture_usage_and_platform() {
             html.contains("Not in this FMU: <code>darwin64</code>."),
             "{file}"
         );
+        assert!(html.contains("Any FMI 2.0 importer"), "{file}");
+        // The FMI 3.0 edition's page names its own folders and importers.
+        let linux3 = docs::Binary {
+            folders: vec!["x86_64-linux"],
+            ..linux.clone()
+        };
+        let html3 = docs::index_html_fmi3(&s, &[linux3]);
+        assert!(
+            html3.contains(&format!("<code>binaries/x86_64-linux/{id}.so</code>")),
+            "{file}"
+        );
+        assert!(html3.contains("Any FMI 3.0 importer"), "{file}");
+        assert!(!html3.contains("binaries/linux64/"), "{file}");
         let linux_only = docs::index_html_for(&s, std::slice::from_ref(&linux));
         assert!(
             linux_only.contains("Not in this FMU: <code>win64</code>, <code>darwin64</code>."),

@@ -603,7 +603,15 @@ fn platform_html(scene: &Scene, binaries: &[Binary]) -> String {
             b.os, b.requirement
         ));
     }
-    h.push_str("<li>Any FMI 2.0 importer, for Co-Simulation (fmpy, OMSimulator, libcosim, ecos, Simulink's FMU Import block, Dymola, fmi-sim and others) or Model Exchange (the importer's own integrator: fmpy's CVode, Dymola, OpenModelica, Simulink, OMSimulator). The FMI 3.0 edition of the same scene offers both as well.</li>\n");
+    // FMI 3.0's folders are `<arch>-<os>`, FMI 2.0's `linux64`, `win64`, `darwin64`.
+    let fmi3 = binaries
+        .iter()
+        .any(|b| b.folders.iter().any(|f| f.contains('-')));
+    h.push_str(if fmi3 {
+        "<li>Any FMI 3.0 importer, for Co-Simulation (fmpy, fmi-sim, Dymola, Simulink and others) or Model Exchange (the importer's own integrator). The FMI 2.0 edition of the same scene offers both as well, for FMI 2.0 importers.</li>\n"
+    } else {
+        "<li>Any FMI 2.0 importer, for Co-Simulation (fmpy, OMSimulator, libcosim, ecos, Simulink's FMU Import block, Dymola, fmi-sim and others) or Model Exchange (the importer's own integrator: fmpy's CVode, Dymola, OpenModelica, Simulink, OMSimulator). The FMI 3.0 edition of the same scene offers both as well.</li>\n"
+    });
     let all = ["linux64", "win64", "darwin64"];
     let shipped = |p: &str| {
         binaries.iter().any(|b| {
