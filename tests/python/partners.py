@@ -156,11 +156,12 @@ def run_ecos(fmu, h, n, capfd):
 
 
 def fmi_sim_exe():
-    """$FMI_SIM (tests/all.sh sets it), else the one tests/all.sh installed, else PATH's."""
+    """$FMI_SIM (tests/all.sh sets it), else the one tests/all.sh installed (in
+    $VIBROFRIC_CACHE, default ~/.cache/vibrofric), else PATH's."""
     if os.environ.get("FMI_SIM"):
         return pathlib.Path(os.environ["FMI_SIM"])
-    target = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", pathlib.Path(__file__).parents[2] / "target"))
-    installed = sorted(target.glob("partners/fmi-sim-*/bin/fmi-sim"))
+    cache = pathlib.Path(os.environ.get("VIBROFRIC_CACHE", pathlib.Path.home() / ".cache" / "vibrofric"))
+    installed = sorted(cache.glob("fmi-sim-*/bin/fmi-sim"))
     if installed:
         return installed[-1]
     exe = shutil.which("fmi-sim")
