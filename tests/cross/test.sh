@@ -41,6 +41,10 @@ wine_test() {
 # and nothing is built twice.
 suites=(-p vibrofric -p vibrofric-import -p vibrofric-cli --lib
     --test fmi_calls --test fmi_bad_input --test fmi3_bad_input)
+# The Windows tests copy the DLL into each test's FMU folder (no symbolic links there): clear
+# what earlier runs left in the Wine prefix's Temp.
+find "$WINEPREFIX/drive_c/users" -maxdepth 3 -name 'vibrofric-test-*' -exec rm -rf {} + 2>/dev/null || true
+
 part "building the Windows tests (the first time 3-5 minutes)"
 cargo test --release --target "$target" --no-run -q "${suites[@]}"
 wine_test "the library's and the importer's unit tests, the FMI 2.0 and 3.0 C-interface suites" \
