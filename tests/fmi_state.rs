@@ -245,19 +245,8 @@ fn crafted_states_are_refused_field_by_field() {
     ok!(b, b.do_step(H, H));
 }
 
-/// The ten standard scenes.
-const FILES: [&str; 10] = [
-    "contact.toml",
-    "contact-lugre.toml",
-    "contact-dupont.toml",
-    "drill-string-axial.toml",
-    "drill-string-contact.toml",
-    "paper-longitudinal.toml",
-    "paper-transverse.toml",
-    "paper-transverse-guided.toml",
-    "rig-longitudinal.toml",
-    "rig-transverse.toml",
-];
+/// The standard scenes.
+const FILES: [&str; 10] = STANDARD_SCENES;
 
 /// A state saved after a step from a late start time restores, in the same instance and
 /// serialized into a fresh one, and continues bit for bit. The step ends on a window boundary

@@ -68,18 +68,7 @@ impl Rng {
 const CALL_BOUND: Duration = Duration::from_secs(10);
 
 /// The standard scenes.
-const FILES: [&str; 10] = [
-    "contact.toml",
-    "contact-lugre.toml",
-    "contact-dupont.toml",
-    "drill-string-axial.toml",
-    "drill-string-contact.toml",
-    "paper-longitudinal.toml",
-    "paper-transverse.toml",
-    "paper-transverse-guided.toml",
-    "rig-longitudinal.toml",
-    "rig-transverse.toml",
-];
+const FILES: [&str; 10] = STANDARD_SCENES;
 
 fn env_u64(name: &str, default: u64) -> u64 {
     std::env::var(name)

@@ -258,18 +258,7 @@ fn model_exchange_states_far_from_any_trajectory_are_discarded() {
     use fmi_harness::{all_vrs, bits, load, vr};
     use vibrofric::description::variables::VarKind;
     use vibrofric_import::Status;
-    for file in [
-        "contact.toml",
-        "contact-lugre.toml",
-        "contact-dupont.toml",
-        "drill-string-axial.toml",
-        "drill-string-contact.toml",
-        "paper-longitudinal.toml",
-        "paper-transverse.toml",
-        "paper-transverse-guided.toml",
-        "rig-longitudinal.toml",
-        "rig-transverse.toml",
-    ] {
+    for file in fmi_harness::STANDARD_SCENES {
         let sc = scene(file);
         let vrs = all_vrs(&sc);
         let nx = sc

@@ -32,6 +32,20 @@ pub mod vr {
     pub const REDUCTION: u32 = OutputId::Reduction.vr();
 }
 
+/// The standard scenes, `scenes/*.toml`.
+pub const STANDARD_SCENES: [&str; 10] = [
+    "contact.toml",
+    "contact-lugre.toml",
+    "contact-dupont.toml",
+    "drill-string-axial.toml",
+    "drill-string-contact.toml",
+    "paper-longitudinal.toml",
+    "paper-transverse.toml",
+    "paper-transverse-guided.toml",
+    "rig-longitudinal.toml",
+    "rig-transverse.toml",
+];
+
 /// The cdylib of this build: `target/<profile>/libvibrofric.so`, found from the test
 /// executable in `target/<profile>/deps/`.
 pub fn library() -> PathBuf {
