@@ -282,7 +282,7 @@ fn host() -> Option<Platform> {
 
 /// The cdylib cargo built beside this executable (`libvibrofric` in the executable's directory or
 /// its parent, for executables cargo places in `deps/`).
-pub fn host_library() -> Result<PathBuf, String> {
+fn host_library() -> Result<PathBuf, String> {
     let file = format!(
         "{}vibrofric.{}",
         std::env::consts::DLL_PREFIX,
