@@ -812,6 +812,7 @@ impl Scene {
         VARIABLES
             .iter()
             .filter(move |v| v.present(&self.config, &self.outputs))
+            .map(move |v| v.in_scene(&self.config))
     }
 
     /// True when the scene carries the variable with this value reference.

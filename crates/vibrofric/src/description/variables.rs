@@ -3,9 +3,11 @@
 //! value and bounds each has in a scene. The generated `modelDescription.xml` and get/set by
 //! value reference both read these rows.
 //!
-//! A scene carries the subset of rows its configuration has (see [`Variable::present`]). The
-//! rows of `F_N` (vr 2) and `F_d` (vr 101) change causality with the scene: `F_N` is an input
-//! with `normal = "input"`, `F_d` the spring-damper force output of a spring drive.
+//! A scene carries the subset of rows its configuration has (see [`Variable::present`]), each
+//! with its final kind ([`Variable::in_scene`]): `F_N` (vr 2) is the parameter's row in most
+//! scenes and the input's row with `normal = "input"`, so that nothing after the scene is read
+//! translates between the two. `F_d` (vr 101) is the input of a force drive and the
+//! spring-damper force output of a spring drive.
 
 use std::sync::LazyLock;
 
@@ -111,11 +113,22 @@ impl Variable {
         }
     }
 
-    /// `F_d` is the input of a force drive and the spring-damper force output of a spring drive;
-    /// `F_N` is a parameter, or an input in scenes with `normal = "input"`.
+    /// The row this variable has in a scene with this configuration: the input `F_N` in scenes
+    /// with `normal = "input"` (it shares the parameter's value reference, name, unit, range and
+    /// description), the row itself otherwise. A scene's rows ([`Scene::variables`]) are these.
+    ///
+    /// [`Scene::variables`]: crate::description::scene::Scene::variables
+    pub fn in_scene(&'static self, c: &Config) -> &'static Variable {
+        match self.kind {
+            VarKind::Param(ParamId::FN) if c.normal_input => &INPUT_F_N,
+            _ => self,
+        }
+    }
+
+    /// `F_d` is the input of a force drive and the spring-damper force output of a spring
+    /// drive.
     pub fn causality(&self, c: &Config) -> Causality {
         match self.kind {
-            VarKind::Param(ParamId::FN) if c.normal_input => Causality::Input,
             VarKind::Param(_) => Causality::Parameter,
             VarKind::Input(InputId::FD) if c.drive == Drive::Spring => Causality::Output,
             VarKind::Input(_) => Causality::Input,
@@ -124,9 +137,10 @@ impl Variable {
         }
     }
 
-    pub fn variability(&self, c: &Config) -> Variability {
+    /// The variability, the same in every scene (a scene's rows have their final kind; the
+    /// configuration is taken for symmetry with [`Variable::causality`]).
+    pub fn variability(&self, _c: &Config) -> Variability {
         match self.kind {
-            VarKind::Param(ParamId::FN) if c.normal_input => Variability::Continuous,
             VarKind::Param(p) if p.tunable() => Variability::Tunable,
             VarKind::Param(_) => Variability::Fixed,
             _ => Variability::Continuous,
@@ -269,6 +283,10 @@ pub static VARIABLES: LazyLock<Vec<Variable>> = LazyLock::new(|| {
     rows.sort_by_key(|r| r.vr);
     rows
 });
+
+/// The row of the input `F_N`, which scenes with `normal = "input"` carry under the parameter's
+/// value reference (see [`Variable::in_scene`]).
+static INPUT_F_N: LazyLock<Variable> = LazyLock::new(|| Variable::of(VarKind::Input(InputId::FN)));
 
 /// The row with this value reference.
 pub fn by_vr(vr: u32) -> Option<&'static Variable> {

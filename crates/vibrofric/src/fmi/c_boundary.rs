@@ -8,7 +8,7 @@ use std::ffi::CStr;
 use std::os::raw::{c_char, c_void};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use super::{Call, FmuState, Instance, Status};
+use super::{Answer, Call, FmuState, Instance, Refusal, Status};
 
 pub(crate) const COMPONENT_MAGIC: u64 = 0x7669_6272_6f66_7269; // "vibrofri"
 pub(crate) const STATE_MAGIC: u64 = 0x7669_6272_6f73_7461; // "vibrosta"
@@ -39,17 +39,20 @@ pub(crate) unsafe fn component<'a>(c: *mut c_void) -> Option<&'a mut Component> 
     (comp.magic == COMPONENT_MAGIC).then_some(comp)
 }
 
-/// Runs `body` on the instance behind `c` with the call's name and allowed states, catching
-/// panics (a caught panic becomes an error of the instance). `None` for a NULL or foreign
+/// Runs `body` on the instance behind `c` through [`Instance::answer`] (the call's allowed
+/// states checked once, a refusal turned into log, state and status), catching panics (a
+/// caught panic becomes an internal error of the instance). `None` for a NULL or foreign
 /// pointer.
 pub(crate) unsafe fn run(
     c: *mut c_void,
     call: Call,
-    body: impl FnOnce(&mut Instance, Call) -> Status,
+    body: impl FnOnce(&mut Instance, Call) -> Answer,
 ) -> Option<Status> {
     let comp = component(c)?;
     Some(
-        match catch_unwind(AssertUnwindSafe(|| body(&mut comp.inst, call))) {
+        match catch_unwind(AssertUnwindSafe(|| {
+            comp.inst.answer(call, |inst| body(inst, call))
+        })) {
             Ok(s) => s,
             Err(p) => {
                 let what = panic_text(p.as_ref());
@@ -82,13 +85,6 @@ pub(crate) unsafe fn array_mut<'a, T>(p: *mut T, n: usize) -> Option<&'a mut [T]
     }
 }
 
-pub(crate) fn null(inst: &mut Instance, f: &str, arg: &str, n: usize) -> Status {
-    inst.invalid_argument(
-        f,
-        format!("{arg} = NULL with nvr = {n}: must point to {n} elements"),
-    )
-}
-
 /// A Model Exchange getter that fills the importer's vector `out` of `n` reals (argument `arg`):
 /// the pointer checked, then `get` on the slice.
 pub(crate) unsafe fn fill(
@@ -97,27 +93,19 @@ pub(crate) unsafe fn fill(
     arg: &str,
     out: *mut f64,
     n: usize,
-    get: fn(&mut Instance, Call, &mut [f64]) -> Status,
-) -> Status {
-    match array_mut(out, n) {
-        Some(out) => get(inst, call, out),
-        None => null(inst, call.name, arg, n),
-    }
+    get: fn(&mut Instance, Call, &mut [f64]) -> Answer,
+) -> Answer {
+    get(
+        inst,
+        call,
+        array_mut(out, n).ok_or_else(|| Refusal::null(arg, n))?,
+    )
 }
 
 /// `fmi2SetContinuousStates`, `fmi3SetContinuousStates`: the importer's `n` states `x`
 /// (argument `arg`).
-pub(crate) unsafe fn set_states(
-    inst: &mut Instance,
-    call: Call,
-    arg: &str,
-    x: *const f64,
-    n: usize,
-) -> Status {
-    match array(x, n) {
-        Some(x) => inst.set_continuous_states(call, x),
-        None => null(inst, call.name, arg, n),
-    }
+pub(crate) unsafe fn set_states(inst: &mut Instance, arg: &str, x: *const f64, n: usize) -> Answer {
+    inst.set_continuous_states(array(x, n).ok_or_else(|| Refusal::null(arg, n))?)
 }
 
 pub(crate) unsafe fn string(s: *const c_char) -> Option<String> {
@@ -149,67 +137,70 @@ pub(crate) unsafe fn store(slot: &mut *mut c_void, state: FmuState) -> bool {
 // ---- FMU states: the bodies of the six state functions, the same in every version ----------
 
 /// Get state: a new state in `*slot`, or the box already there reused.
-pub(crate) unsafe fn get_state(inst: &mut Instance, call: Call, slot: *mut *mut c_void) -> Status {
+pub(crate) unsafe fn get_state(inst: &mut Instance, call: Call, slot: *mut *mut c_void) -> Answer {
     let w = call.words;
     let Some(slot) = slot.as_mut() else {
-        let msg = format!("{} = NULL: must point to an {}", w.state_arg, w.state_type);
-        return inst.invalid_argument(call.name, msg);
+        return Err(Refusal::error(format!(
+            "{} = NULL: must point to an {}",
+            w.state_arg, w.state_type
+        )));
     };
-    let state = match inst.get_fmu_state(call) {
-        Ok(s) => s,
-        Err(s) => return s,
-    };
-    if store(slot, state) {
-        Status::Ok
+    if store(slot, inst.save_state(call)) {
+        Ok(Status::Ok)
     } else {
-        let msg = format!(
+        Err(Refusal::error(format!(
             "*{} is neither NULL nor a state returned by this FMU",
             w.state_arg
-        );
-        inst.invalid_argument(call.name, msg)
+        )))
     }
 }
 
 /// Set state.
-pub(crate) unsafe fn set_state(inst: &mut Instance, call: Call, state: *mut c_void) -> Status {
+pub(crate) unsafe fn set_state(inst: &mut Instance, call: Call, state: *mut c_void) -> Answer {
     let w = call.words;
     match state_ref(state) {
-        Some(b) => inst.set_fmu_state(call, &b.state),
-        None => inst.invalid_argument(
-            call.name,
-            format!(
-                "{} is NULL or not a state returned by {}/{}",
-                w.state_arg, w.get_state, w.deserialize_state
-            ),
-        ),
+        Some(b) => inst.restore_state(call, &b.state),
+        None => Err(Refusal::error(format!(
+            "{} is NULL or not a state returned by {}/{}",
+            w.state_arg, w.get_state, w.deserialize_state
+        ))),
     }
 }
 
 /// Free state: frees `*slot` and sets it to NULL (nothing to do for NULL).
-pub(crate) unsafe fn free_state(inst: &mut Instance, call: Call, slot: *mut *mut c_void) -> Status {
+pub(crate) unsafe fn free_state(call: Call, slot: *mut *mut c_void) -> Answer {
     let w = call.words;
     let Some(slot) = slot.as_mut() else {
-        let msg = format!("{} = NULL: must point to an {}", w.state_arg, w.state_type);
-        return inst.invalid_argument(call.name, msg);
+        return Err(Refusal::error(format!(
+            "{} = NULL: must point to an {}",
+            w.state_arg, w.state_type
+        )));
     };
-    let s = inst.allow_call(call);
-    if s != Status::Ok {
-        return s;
-    }
     if slot.is_null() {
-        return Status::Ok;
+        return Ok(Status::Ok);
     }
     match state_ref(*slot) {
         Some(b) => {
             b.magic = 0;
             drop(Box::from_raw(b as *mut StateBox));
             *slot = std::ptr::null_mut();
-            Status::Ok
+            Ok(Status::Ok)
         }
-        None => {
-            let msg = format!("*{} is not a state returned by this FMU", w.state_arg);
-            inst.invalid_argument(call.name, msg)
-        }
+        None => Err(Refusal::error(format!(
+            "*{} is not a state returned by this FMU",
+            w.state_arg
+        ))),
+    }
+}
+
+/// The state behind a state pointer, or why there is none.
+unsafe fn saved<'a>(call: Call, state: *mut c_void) -> Answer<&'a FmuState> {
+    match state_ref(state) {
+        Some(b) => Ok(&b.state),
+        None => Err(Refusal::error(format!(
+            "{} is NULL or not a state of this FMU",
+            call.words.state_arg
+        ))),
     }
 }
 
@@ -219,24 +210,11 @@ pub(crate) unsafe fn state_size(
     call: Call,
     state: *mut c_void,
     size: *mut usize,
-) -> Status {
-    let Some(b) = state_ref(state) else {
-        let msg = format!(
-            "{} is NULL or not a state of this FMU",
-            call.words.state_arg
-        );
-        return inst.invalid_argument(call.name, msg);
-    };
-    let Some(size) = size.as_mut() else {
-        return inst.invalid_argument(call.name, "size = NULL");
-    };
-    match inst.serialize_fmu_state(call, &b.state) {
-        Ok(bytes) => {
-            *size = bytes.len();
-            Status::Ok
-        }
-        Err(s) => s,
-    }
+) -> Answer {
+    let state = saved(call, state)?;
+    let size = size.as_mut().ok_or_else(|| Refusal::error("size = NULL"))?;
+    *size = inst.serialize_state(state).len();
+    Ok(Status::Ok)
 }
 
 /// Serialize state into `size` bytes at `out` (zero-filled past the state).
@@ -246,35 +224,23 @@ pub(crate) unsafe fn serialize_state(
     state: *mut c_void,
     out: *mut u8,
     size: usize,
-) -> Status {
-    let Some(b) = state_ref(state) else {
-        let msg = format!(
-            "{} is NULL or not a state of this FMU",
-            call.words.state_arg
-        );
-        return inst.invalid_argument(call.name, msg);
-    };
-    let bytes = match inst.serialize_fmu_state(call, &b.state) {
-        Ok(b) => b,
-        Err(s) => return s,
-    };
+) -> Answer {
+    let bytes = inst.serialize_state(saved(call, state)?);
     if size < bytes.len() {
-        let msg = format!(
+        return Err(Refusal::error(format!(
             "size = {size}: the state needs {} bytes ({})",
             bytes.len(),
             call.words.state_size
-        );
-        return inst.invalid_argument(call.name, msg);
+        )));
     }
     let Some(out) = array_mut(out, size) else {
-        return inst.invalid_argument(
-            call.name,
-            format!("serializedState = NULL with size = {size}"),
-        );
+        return Err(Refusal::error(format!(
+            "serializedState = NULL with size = {size}"
+        )));
     };
     out[..bytes.len()].copy_from_slice(&bytes);
     out[bytes.len()..].fill(0);
-    Status::Ok
+    Ok(Status::Ok)
 }
 
 /// Deserialize state: a new state in `*slot` from `size` bytes at `bytes`.
@@ -284,29 +250,26 @@ pub(crate) unsafe fn deserialize_state(
     bytes: *const u8,
     size: usize,
     slot: *mut *mut c_void,
-) -> Status {
+) -> Answer {
     let w = call.words;
     let Some(bytes) = array(bytes, size) else {
-        return inst.invalid_argument(
-            call.name,
-            format!("serializedState = NULL with size = {size}"),
-        );
+        return Err(Refusal::error(format!(
+            "serializedState = NULL with size = {size}"
+        )));
     };
     let Some(slot) = slot.as_mut() else {
-        let msg = format!("{} = NULL: must point to an {}", w.state_arg, w.state_type);
-        return inst.invalid_argument(call.name, msg);
+        return Err(Refusal::error(format!(
+            "{} = NULL: must point to an {}",
+            w.state_arg, w.state_type
+        )));
     };
-    let state = match inst.deserialize_fmu_state(call, bytes) {
-        Ok(s) => s,
-        Err(s) => return s,
-    };
+    let state = inst.deserialize_state(call, bytes)?;
     if store(slot, state) {
-        Status::Ok
+        Ok(Status::Ok)
     } else {
-        let msg = format!(
+        Err(Refusal::error(format!(
             "*{} is neither NULL nor a state returned by this FMU",
             w.state_arg
-        );
-        inst.invalid_argument(call.name, msg)
+        )))
     }
 }

@@ -1,6 +1,8 @@
 //! The states an instance can be in, and the set of states a call is allowed in. Each FMI
-//! version's layer holds its own table of allowed states per function (`fmi2/functions.rs`) and
-//! hands the instance a [`Call`]: the function's name (for messages) and where it is allowed.
+//! version's layer holds its own table of allowed states per function (`fmi2/functions.rs`,
+//! `fmi3/functions.rs`) and hands the instance a [`Call`]: the function's name (for messages)
+//! and where it is allowed, which the instance checks once at the entry of every call
+//! ([`Instance::answer`](super::Instance::answer)).
 
 use serde::{Deserialize, Serialize};
 
@@ -181,4 +183,7 @@ pub struct Vocabulary {
     pub get_state: &'static str,
     pub deserialize_state: &'static str,
     pub state_size: &'static str,
+    /// The value reference of the independent variable `time` where the version declares it
+    /// as a variable (FMI 3.0); `None` where it does not (FMI 2.0).
+    pub time_vr: Option<u32>,
 }

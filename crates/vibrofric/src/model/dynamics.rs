@@ -16,18 +16,19 @@ use crate::solver::{OdeSystem, Quad, MAX_DIM, MAX_SWITCH};
 use crate::table::InputId;
 
 /// The normal force below which the body has lifted off: the integrator's relative tolerance
-/// of the reference load (1 N without one). The friction the contact could still carry is then
+/// of the reference load `f_n_ref` (1 N without one). The friction the contact could still carry is then
 /// within the tolerance of none, and the laws stay well-conditioned down to it (a load that
 /// tends to 0 makes the relaxation rate `|v_r|/s_ss` grow without bound).
 pub(super) fn lift_off(reference: &Params, rtol: f64) -> f64 {
-    rtol * if reference.f_n > 0.0 {
-        reference.f_n
+    rtol * if reference.f_n_ref > 0.0 {
+        reference.f_n_ref
     } else {
         1.0
     }
 }
 
-/// The parameters at the normal force `f_n`: `F_N` replaced. LuGre's static force `F_S` and
+/// The parameters at the normal force `f_n`: `F_N` replaced, the reference load
+/// ([`Params::f_n_ref`], the scene's start value of `F_N`) kept. LuGre's static force `F_S` and
 /// contact damping `zeta_t` follow the load as with a parameter `F_N` ([`Params::static_force`],
 /// [`Params::damping_ratio`]), so that every friction force of the contact is proportional to
 /// the load. `F_C = mu·F_N` and everything the laws derive from it (`s_ss`, LuGre's `g`) follow.
@@ -35,9 +36,7 @@ pub(super) fn lift_off(reference: &Params, rtol: f64) -> f64 {
 /// `k_t·s` as the load, and with it `g`, tends to 0.
 pub(super) fn loaded(reference: &Params, f_n: f64) -> Params {
     let mut p = *reference;
-    // The input's start value is the reference load (a scene's start value of F_N).
-    p.f_n_ref = reference.f_n;
-    if reference.f_n <= 0.0 {
+    if reference.f_n_ref <= 0.0 {
         // No reference load: no Stribeck peak, F_S = F_C, taken as it is.
         p.f_s = reference.mu * f_n;
     }
@@ -53,8 +52,8 @@ pub struct Dynamics<V: Vector, L: FrictionLaw, D: DriveKind<V>> {
     pub(super) harmonic: Option<Harmonic>,
     /// Input tracks, indexed like [`InputId::ALL`].
     pub(super) tracks: [InputTrack; 5],
-    /// With the normal force an input: the parameters at the reference load `F_N` (the input's
-    /// start value), from which the law at `F_N(t)` is made.
+    /// With the normal force an input: the parameters, whose reference load `f_n_ref` (the
+    /// scene's start value of `F_N`) the law at `F_N(t)` is scaled from.
     pub(super) load: Option<Params>,
     /// With the normal force an input: the load below which the body has lifted off.
     pub(super) lift_off: f64,

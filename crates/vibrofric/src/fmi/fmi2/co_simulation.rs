@@ -4,8 +4,7 @@
 #![allow(non_upper_case_globals)] // matched against the C names of fmi2StatusKind
 
 use super::types::{fmi2DoStepStatus, fmi2LastSuccessfulTime, fmi2PendingStatus, fmi2Terminated};
-use crate::fmi::state::Call;
-use crate::fmi::{Instance, Status};
+use crate::fmi::{Answer, Instance, Refusal};
 
 fn kind_name(kind: i32) -> String {
     match kind {
@@ -17,11 +16,8 @@ fn kind_name(kind: i32) -> String {
     }
 }
 
-/// A query with no answer: `fmi2Discard`, saying why.
-fn unanswered(inst: &mut Instance, call: Call, kind: i32, what: &str) -> Status {
-    if let Err(s) = inst.allow(call) {
-        return s;
-    }
+/// A query with no answer: a discard, saying why.
+fn unanswered(kind: i32, what: &str) -> Refusal {
     let why = match kind {
         fmi2DoStepStatus | fmi2PendingStatus => {
             "can be asked only after fmi2DoStep returned fmi2Pending; this FMU completes every step synchronously".to_string()
@@ -30,42 +26,36 @@ fn unanswered(inst: &mut Instance, call: Call, kind: i32, what: &str) -> Status 
         fmi2Terminated => "is a Boolean status: use fmi2GetBooleanStatus".into(),
         _ => "is not a status kind of FMI 2.0".into(),
     };
-    inst.discard(call.name, format!("{} {why} ({what})", kind_name(kind)))
+    Refusal::discard(format!("{} {why} ({what})", kind_name(kind)))
 }
 
 /// `fmi2GetStatus`: never available (no asynchronous steps); `fmi2Discard`.
-pub fn get_status(inst: &mut Instance, call: Call, kind: i32) -> Status {
-    unanswered(inst, call, kind, "fmi2Status")
+pub fn get_status(kind: i32) -> Answer {
+    Err(unanswered(kind, "fmi2Status"))
 }
 
 /// `fmi2GetRealStatus`: `fmi2LastSuccessfulTime` is the instance's time.
-pub fn get_real_status(inst: &mut Instance, call: Call, kind: i32) -> (Status, f64) {
+pub fn get_real_status(inst: &Instance, kind: i32) -> Answer<f64> {
     if kind == fmi2LastSuccessfulTime {
-        if let Err(s) = inst.allow(call) {
-            return (s, 0.0);
-        }
-        return (Status::Ok, inst.time());
+        return Ok(inst.time());
     }
-    (unanswered(inst, call, kind, "fmi2Real"), 0.0)
+    Err(unanswered(kind, "fmi2Real"))
 }
 
 /// `fmi2GetIntegerStatus`: FMI 2.0 defines no Integer status; `fmi2Discard`.
-pub fn get_integer_status(inst: &mut Instance, call: Call, kind: i32) -> Status {
-    unanswered(inst, call, kind, "fmi2Integer")
+pub fn get_integer_status(kind: i32) -> Answer {
+    Err(unanswered(kind, "fmi2Integer"))
 }
 
 /// `fmi2GetBooleanStatus`: `fmi2Terminated` is false (the slave never asks to stop).
-pub fn get_boolean_status(inst: &mut Instance, call: Call, kind: i32) -> (Status, bool) {
+pub fn get_boolean_status(kind: i32) -> Answer<bool> {
     if kind == fmi2Terminated {
-        if let Err(s) = inst.allow(call) {
-            return (s, false);
-        }
-        return (Status::Ok, false);
+        return Ok(false);
     }
-    (unanswered(inst, call, kind, "fmi2Boolean"), false)
+    Err(unanswered(kind, "fmi2Boolean"))
 }
 
 /// `fmi2GetStringStatus`: no pending step, so no status string; `fmi2Discard`.
-pub fn get_string_status(inst: &mut Instance, call: Call, kind: i32) -> Status {
-    unanswered(inst, call, kind, "fmi2String")
+pub fn get_string_status(kind: i32) -> Answer {
+    Err(unanswered(kind, "fmi2String"))
 }

@@ -21,10 +21,10 @@ use super::types::*;
 use super::{co_simulation, Function};
 use crate::description::log::Category;
 use crate::fmi::c_boundary::{
-    array, array_mut, component, deserialize_state, fill, free_state, get_state, null, run,
+    array, array_mut, component, deserialize_state, fill, free_state, get_state, run,
     serialize_state, set_state, set_states, state_size, string, Component, COMPONENT_MAGIC,
 };
-use crate::fmi::{Call, Instance, Interface, Logger, NoLogger, Status};
+use crate::fmi::{Answer, Call, Instance, Interface, Logger, NoLogger, Refusal, Status};
 
 /// The importer's logger callback, called with the format `"%s"` and the message as its one
 /// argument, so that a `%` in a message is never interpreted.
@@ -58,7 +58,7 @@ impl Logger for CLogger {
 unsafe fn call(
     c: fmi2Component,
     f: Function,
-    body: impl FnOnce(&mut Instance, Call) -> Status,
+    body: impl FnOnce(&mut Instance, Call) -> Answer,
 ) -> fmi2Status {
     run(c, f.call(), body).map_or(fmi2Error, |s| s as fmi2Status)
 }
@@ -191,20 +191,19 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     const F: Function = Function::SetDebugLogging;
     call(c, F, |inst, call| {
         let Some(cats) = array(categories, nCategories) else {
-            return inst.invalid_argument(
-                F.name(),
-                format!("categories = NULL with nCategories = {nCategories}"),
-            );
+            return Err(Refusal::error(format!(
+                "categories = NULL with nCategories = {nCategories}"
+            )));
         };
         let mut names = Vec::with_capacity(cats.len());
         for (k, &p) in cats.iter().enumerate() {
             match string(p) {
                 Some(s) => names.push(s),
-                None => return inst.invalid_argument(F.name(), format!("categories[{k}] = NULL")),
+                None => return Err(Refusal::error(format!("categories[{k}] = NULL"))),
             }
         }
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        inst.set_debug_logging(call, loggingOn != fmi2False, &names)
+        inst.set_logging(call, loggingOn != fmi2False, &names)
     })
 }
 
@@ -218,7 +217,7 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     stopTime: fmi2Real,
 ) -> fmi2Status {
     call(c, Function::SetupExperiment, |inst, call| {
-        inst.setup_experiment(
+        inst.set_experiment(
             call,
             (toleranceDefined != fmi2False).then_some(tolerance),
             startTime,
@@ -230,14 +229,14 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
     call(c, Function::EnterInitializationMode, |i, call| {
-        i.enter_initialization_mode(call)
+        i.enter_initialization(call)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
     call(c, Function::ExitInitializationMode, |i, call| {
-        i.exit_initialization_mode(call)
+        i.exit_initialization(call)
     })
 }
 
@@ -263,12 +262,12 @@ pub unsafe extern "C" fn fmi2GetReal(
     const F: Function = Function::GetReal;
     call(c, F, |inst, call| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, F.name(), "vr", nvr);
+            return Err(Refusal::null("vr", nvr));
         };
         let Some(values) = array_mut(value, nvr) else {
-            return null(inst, F.name(), "value", nvr);
+            return Err(Refusal::null("value", nvr));
         };
-        inst.get_real(call, vrs, values)
+        inst.get_values(call, vrs, values)
     })
 }
 
@@ -282,12 +281,12 @@ pub unsafe extern "C" fn fmi2SetReal(
     const F: Function = Function::SetReal;
     call(c, F, |inst, call| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, F.name(), "vr", nvr);
+            return Err(Refusal::null("vr", nvr));
         };
         let Some(values) = array(value, nvr) else {
-            return null(inst, F.name(), "value", nvr);
+            return Err(Refusal::null("value", nvr));
         };
-        inst.set_real(call, vrs, values)
+        inst.set_values(call, vrs, values)
     })
 }
 
@@ -300,14 +299,14 @@ unsafe fn no_variables<T>(
     nvr: usize,
     value: *const T,
 ) -> fmi2Status {
-    call(c, f, |inst, call| {
+    call(c, f, |inst, _| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, f.name(), "vr", nvr);
+            return Err(Refusal::null("vr", nvr));
         };
         if nvr > 0 && value.is_null() {
-            return null(inst, f.name(), "value", nvr);
+            return Err(Refusal::null("value", nvr));
         }
-        inst.no_variables_of_type(call, type_name, vrs)
+        inst.no_variables_of_type(type_name, vrs)
     })
 }
 
@@ -409,8 +408,8 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
     c: fmi2Component,
     FMUstate: *mut fmi2FMUstate,
 ) -> fmi2Status {
-    call(c, Function::FreeFMUstate, |i, call| {
-        free_state(i, call, FMUstate)
+    call(c, Function::FreeFMUstate, |_, call| {
+        free_state(call, FMUstate)
     })
 }
 
@@ -460,20 +459,20 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
     const F: Function = Function::GetDirectionalDerivative;
-    call(c, F, |inst, call| {
+    call(c, F, |inst, _| {
         let Some(unknowns) = array(vUnknown_ref, nUnknown) else {
-            return null(inst, F.name(), "vUnknown_ref", nUnknown);
+            return Err(Refusal::null("vUnknown_ref", nUnknown));
         };
         let Some(knowns) = array(vKnown_ref, nKnown) else {
-            return null(inst, F.name(), "vKnown_ref", nKnown);
+            return Err(Refusal::null("vKnown_ref", nKnown));
         };
         let Some(dv_known) = array(dvKnown, nKnown) else {
-            return null(inst, F.name(), "dvKnown", nKnown);
+            return Err(Refusal::null("dvKnown", nKnown));
         };
         let Some(dv_unknown) = array_mut(dvUnknown, nUnknown) else {
-            return null(inst, F.name(), "dvUnknown", nUnknown);
+            return Err(Refusal::null("dvUnknown", nUnknown));
         };
-        inst.get_directional_derivative(call, unknowns, knowns, dv_known, dv_unknown)
+        inst.get_directional_derivative(unknowns, knowns, dv_known, dv_unknown)
     })
 }
 
@@ -494,28 +493,26 @@ pub unsafe extern "C" fn fmi2NewDiscreteStates(
     const F: Function = Function::NewDiscreteStates;
     call(c, F, |inst, call| {
         let Some(out) = eventInfo.as_mut() else {
-            return inst.invalid_argument(F.name(), "eventInfo = NULL");
+            return Err(Refusal::error("eventInfo = NULL"));
         };
-        let (status, info) = inst.new_discrete_states(call);
-        if status == Status::Ok {
-            let b = |x: bool| if x { fmi2True } else { fmi2False };
-            *out = fmi2EventInfo {
-                newDiscreteStatesNeeded: fmi2False,
-                terminateSimulation: fmi2False,
-                nominalsOfContinuousStatesChanged: fmi2False,
-                valuesOfContinuousStatesChanged: b(info.values_of_continuous_states_changed),
-                nextEventTimeDefined: b(info.next_event_time.is_some()),
-                nextEventTime: info.next_event_time.unwrap_or(0.0),
-            };
-        }
-        status
+        let info = inst.update_events(call)?;
+        let b = |x: bool| if x { fmi2True } else { fmi2False };
+        *out = fmi2EventInfo {
+            newDiscreteStatesNeeded: fmi2False,
+            terminateSimulation: fmi2False,
+            nominalsOfContinuousStatesChanged: fmi2False,
+            valuesOfContinuousStatesChanged: b(info.values_of_continuous_states_changed),
+            nextEventTimeDefined: b(info.next_event_time.is_some()),
+            nextEventTime: info.next_event_time.unwrap_or(0.0),
+        };
+        Ok(Status::Ok)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status {
-    call(c, Function::EnterContinuousTimeMode, |i, call| {
-        i.enter_continuous_time_mode(call)
+    call(c, Function::EnterContinuousTimeMode, |i, _| {
+        i.enter_continuous_time_mode()
     })
 }
 
@@ -527,23 +524,23 @@ pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
     terminateSimulation: *mut fmi2Boolean,
 ) -> fmi2Status {
     const F: Function = Function::CompletedIntegratorStep;
-    call(c, F, |inst, call| {
+    call(c, F, |_, _| {
         let (Some(event), Some(terminate)) =
             (enterEventMode.as_mut(), terminateSimulation.as_mut())
         else {
-            return inst.invalid_argument(F.name(), "enterEventMode or terminateSimulation = NULL");
+            return Err(Refusal::error(
+                "enterEventMode or terminateSimulation = NULL",
+            ));
         };
-        let status = inst.completed_integrator_step(call);
-        if status == Status::Ok {
-            (*event, *terminate) = (fmi2False, fmi2False);
-        }
-        status
+        // Nothing to do (no step events); never asks for an event or to terminate.
+        (*event, *terminate) = (fmi2False, fmi2False);
+        Ok(Status::Ok)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetTime(c: fmi2Component, time: fmi2Real) -> fmi2Status {
-    call(c, Function::SetTime, |i, call| i.set_time(call, time))
+    call(c, Function::SetTime, |i, _| i.set_time(time))
 }
 
 #[no_mangle]
@@ -552,8 +549,8 @@ pub unsafe extern "C" fn fmi2SetContinuousStates(
     x: *const fmi2Real,
     nx: usize,
 ) -> fmi2Status {
-    call(c, Function::SetContinuousStates, |i, call| {
-        set_states(i, call, "x", x, nx)
+    call(c, Function::SetContinuousStates, |i, _| {
+        set_states(i, "x", x, nx)
     })
 }
 
@@ -626,17 +623,17 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
     value: *const fmi2Real,
 ) -> fmi2Status {
     const F: Function = Function::SetRealInputDerivatives;
-    call(c, F, |inst, call| {
+    call(c, F, |inst, _| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, F.name(), "vr", nvr);
+            return Err(Refusal::null("vr", nvr));
         };
         let Some(orders) = array(order, nvr) else {
-            return null(inst, F.name(), "order", nvr);
+            return Err(Refusal::null("order", nvr));
         };
         let Some(values) = array(value, nvr) else {
-            return null(inst, F.name(), "value", nvr);
+            return Err(Refusal::null("value", nvr));
         };
-        inst.set_real_input_derivatives(call, vrs, orders, values)
+        inst.set_input_derivatives(vrs, orders, values)
     })
 }
 
@@ -651,15 +648,15 @@ pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
     const F: Function = Function::GetRealOutputDerivatives;
     call(c, F, |inst, call| {
         let Some(vrs) = array(vr, nvr) else {
-            return null(inst, F.name(), "vr", nvr);
+            return Err(Refusal::null("vr", nvr));
         };
         let Some(orders) = array(order, nvr) else {
-            return null(inst, F.name(), "order", nvr);
+            return Err(Refusal::null("order", nvr));
         };
         let Some(values) = array_mut(value, nvr) else {
-            return null(inst, F.name(), "value", nvr);
+            return Err(Refusal::null("value", nvr));
         };
-        inst.get_real_output_derivatives(call, vrs, orders, values)
+        inst.get_output_derivatives(call, vrs, orders, values)
     })
 }
 
@@ -671,13 +668,13 @@ pub unsafe extern "C" fn fmi2DoStep(
     _noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
 ) -> fmi2Status {
     call(c, Function::DoStep, |i, call| {
-        i.do_step(call, currentCommunicationPoint, communicationStepSize)
+        i.step(call, currentCommunicationPoint, communicationStepSize)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-    call(c, Function::CancelStep, |i, call| i.cancel_step(call))
+    call(c, Function::CancelStep, |i, _| i.cancel_step())
 }
 
 #[no_mangle]
@@ -686,9 +683,7 @@ pub unsafe extern "C" fn fmi2GetStatus(
     s: fmi2StatusKind,
     _value: *mut fmi2Status,
 ) -> fmi2Status {
-    call(c, Function::GetStatus, |i, call| {
-        co_simulation::get_status(i, call, s)
-    })
+    call(c, Function::GetStatus, |_, _| co_simulation::get_status(s))
 }
 
 #[no_mangle]
@@ -698,15 +693,12 @@ pub unsafe extern "C" fn fmi2GetRealStatus(
     value: *mut fmi2Real,
 ) -> fmi2Status {
     const F: Function = Function::GetRealStatus;
-    call(c, F, |inst, call| {
+    call(c, F, |inst, _| {
         let Some(out) = value.as_mut() else {
-            return inst.invalid_argument(F.name(), "value = NULL");
+            return Err(Refusal::error("value = NULL"));
         };
-        let (status, v) = co_simulation::get_real_status(inst, call, s);
-        if status == Status::Ok {
-            *out = v;
-        }
-        status
+        *out = co_simulation::get_real_status(inst, s)?;
+        Ok(Status::Ok)
     })
 }
 
@@ -716,8 +708,8 @@ pub unsafe extern "C" fn fmi2GetIntegerStatus(
     s: fmi2StatusKind,
     _value: *mut fmi2Integer,
 ) -> fmi2Status {
-    call(c, Function::GetIntegerStatus, |i, call| {
-        co_simulation::get_integer_status(i, call, s)
+    call(c, Function::GetIntegerStatus, |_, _| {
+        co_simulation::get_integer_status(s)
     })
 }
 
@@ -728,15 +720,13 @@ pub unsafe extern "C" fn fmi2GetBooleanStatus(
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
     const F: Function = Function::GetBooleanStatus;
-    call(c, F, |inst, call| {
+    call(c, F, |_, _| {
         let Some(out) = value.as_mut() else {
-            return inst.invalid_argument(F.name(), "value = NULL");
+            return Err(Refusal::error("value = NULL"));
         };
-        let (status, v) = co_simulation::get_boolean_status(inst, call, s);
-        if status == Status::Ok {
-            *out = if v { fmi2True } else { fmi2False };
-        }
-        status
+        let v = co_simulation::get_boolean_status(s)?;
+        *out = if v { fmi2True } else { fmi2False };
+        Ok(Status::Ok)
     })
 }
 
@@ -746,7 +736,7 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
     s: fmi2StatusKind,
     _value: *mut fmi2String,
 ) -> fmi2Status {
-    call(c, Function::GetStringStatus, |i, call| {
-        co_simulation::get_string_status(i, call, s)
+    call(c, Function::GetStringStatus, |_, _| {
+        co_simulation::get_string_status(s)
     })
 }

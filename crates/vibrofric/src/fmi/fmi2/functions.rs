@@ -200,4 +200,5 @@ pub static WORDS: Vocabulary = Vocabulary {
     get_state: "fmi2GetFMUstate",
     deserialize_state: "fmi2DeSerializeFMUstate",
     state_size: "fmi2SerializedFMUstateSize",
+    time_vr: None,
 };

@@ -17,12 +17,11 @@ use std::ptr;
 use super::types::*;
 use super::Function;
 use crate::description::log::Category;
-use crate::description::xml3::TIME_VR;
 use crate::fmi::c_boundary::{
-    array, array_mut, component, deserialize_state, fill, free_state, get_state, null, run,
+    array, array_mut, component, deserialize_state, fill, free_state, get_state, run,
     serialize_state, set_state, set_states, state_size, string, Component, COMPONENT_MAGIC,
 };
-use crate::fmi::{Call, Instance, Interface, Logger, NoLogger, Status};
+use crate::fmi::{Answer, Call, Instance, Interface, Logger, NoLogger, Refusal, Status};
 
 /// The importer's `fmi3LogMessageCallback`.
 struct CLogger {
@@ -50,15 +49,15 @@ impl Logger for CLogger {
 unsafe fn call(
     c: fmi3Instance,
     f: Function,
-    body: impl FnOnce(&mut Instance, Call) -> Status,
+    body: impl FnOnce(&mut Instance, Call) -> Answer,
 ) -> fmi3Status {
     run(c, f.call(), body).map_or(fmi3Error, |s| s as fmi3Status)
 }
 
 /// The error of a function this FMU does not offer.
 unsafe fn unsupported(c: fmi3Instance, name: &'static str, why: &str) -> fmi3Status {
-    call(c, Function::Unsupported(name), |i, call| {
-        i.unsupported(call, why)
+    call(c, Function::Unsupported(name), |_, _| {
+        Err(Refusal::unsupported(why))
     })
 }
 
@@ -83,20 +82,19 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
     const F: Function = Function::SetDebugLogging;
     call(instance, F, |inst, call| {
         let Some(cats) = array(categories, nCategories) else {
-            return inst.invalid_argument(
-                F.name(),
-                format!("categories = NULL with nCategories = {nCategories}"),
-            );
+            return Err(Refusal::error(format!(
+                "categories = NULL with nCategories = {nCategories}"
+            )));
         };
         let mut names = Vec::with_capacity(cats.len());
         for (k, &p) in cats.iter().enumerate() {
             match string(p) {
                 Some(s) => names.push(s),
-                None => return inst.invalid_argument(F.name(), format!("categories[{k}] = NULL")),
+                None => return Err(Refusal::error(format!("categories[{k}] = NULL"))),
             }
         }
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
-        inst.set_debug_logging(call, loggingOn, &names)
+        inst.set_logging(call, loggingOn, &names)
     })
 }
 
@@ -285,23 +283,19 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
     stopTime: fmi3Float64,
 ) -> fmi3Status {
     call(instance, Function::EnterInitializationMode, |inst, call| {
-        let experiment = inst.setup_experiment(
+        inst.enter_initialization_with(
             call,
             toleranceDefined.then_some(tolerance),
             startTime,
             stopTimeDefined.then_some(stopTime),
-        );
-        if experiment > Status::Warning {
-            return experiment;
-        }
-        inst.enter_initialization_mode(call).max(experiment)
+        )
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3ExitInitializationMode(instance: fmi3Instance) -> fmi3Status {
     call(instance, Function::ExitInitializationMode, |i, call| {
-        i.exit_initialization_mode(call)
+        i.exit_initialization(call)
     })
 }
 
@@ -326,13 +320,11 @@ pub unsafe extern "C" fn fmi3Reset(instance: fmi3Instance) -> fmi3Status {
 
 /// Checks that a scalar call's `nValues` equals `nValueReferences` (every variable is a
 /// scalar).
-fn scalar_count(inst: &mut Instance, f: Function, nvr: usize, n_values: usize) -> Option<Status> {
-    (nvr != n_values).then(|| {
-        inst.invalid_argument(
-            f.name(),
-            format!("nValues = {n_values} with nValueReferences = {nvr}: every variable of this FMU is a scalar, so they must be equal"),
-        )
-    })
+fn scalar_count(nvr: usize, n_values: usize) -> Answer<()> {
+    if nvr != n_values {
+        return Err(Refusal::error(format!("nValues = {n_values} with nValueReferences = {nvr}: every variable of this FMU is a scalar, so they must be equal")));
+    }
+    Ok(())
 }
 
 #[no_mangle]
@@ -345,39 +337,14 @@ pub unsafe extern "C" fn fmi3GetFloat64(
 ) -> fmi3Status {
     const F: Function = Function::GetFloat64;
     call(instance, F, |inst, call| {
-        if let Some(s) = scalar_count(inst, F, nValueReferences, nValues) {
-            return s;
-        }
+        scalar_count(nValueReferences, nValues)?;
         let Some(vrs) = array(valueReferences, nValueReferences) else {
-            return null(inst, F.name(), "valueReferences", nValueReferences);
+            return Err(Refusal::null("valueReferences", nValueReferences));
         };
         let Some(values) = array_mut(values, nValues) else {
-            return null(inst, F.name(), "values", nValues);
+            return Err(Refusal::null("values", nValues));
         };
-        if !vrs.contains(&TIME_VR) {
-            return inst.get_real(call, vrs, values);
-        }
-        // The independent variable `time` is FMI 3.0's alone: the instance's time.
-        let (others, slots): (Vec<u32>, Vec<usize>) = vrs
-            .iter()
-            .enumerate()
-            .filter(|(_, &vr)| vr != TIME_VR)
-            .map(|(k, &vr)| (vr, k))
-            .unzip();
-        let mut got = vec![0.0; others.len()];
-        let s = inst.get_real(call, &others, &mut got);
-        if s > Status::Warning {
-            return s;
-        }
-        for (k, &vr) in vrs.iter().enumerate() {
-            if vr == TIME_VR {
-                values[k] = inst.time();
-            }
-        }
-        for (x, k) in got.into_iter().zip(slots) {
-            values[k] = x;
-        }
-        s
+        inst.get_values(call, vrs, values)
     })
 }
 
@@ -391,22 +358,14 @@ pub unsafe extern "C" fn fmi3SetFloat64(
 ) -> fmi3Status {
     const F: Function = Function::SetFloat64;
     call(instance, F, |inst, call| {
-        if let Some(s) = scalar_count(inst, F, nValueReferences, nValues) {
-            return s;
-        }
+        scalar_count(nValueReferences, nValues)?;
         let Some(vrs) = array(valueReferences, nValueReferences) else {
-            return null(inst, F.name(), "valueReferences", nValueReferences);
+            return Err(Refusal::null("valueReferences", nValueReferences));
         };
         let Some(values) = array(values, nValues) else {
-            return null(inst, F.name(), "values", nValues);
+            return Err(Refusal::null("values", nValues));
         };
-        if vrs.contains(&TIME_VR) {
-            return inst.invalid_argument(
-                F.name(),
-                format!("time (vr {TIME_VR}) is the independent variable: it advances with fmi3DoStep and cannot be set"),
-            );
-        }
-        inst.set_real(call, vrs, values)
+        inst.set_values(call, vrs, values)
     })
 }
 
@@ -419,11 +378,11 @@ unsafe fn no_variables(
     vrs: *const fmi3ValueReference,
     nvr: usize,
 ) -> fmi3Status {
-    call(instance, f, |inst, call| {
+    call(instance, f, |inst, _| {
         let Some(vrs) = array(vrs, nvr) else {
-            return null(inst, f.name(), "valueReferences", nvr);
+            return Err(Refusal::null("valueReferences", nvr));
         };
-        inst.no_variables_of_type(call, type_name, vrs)
+        inst.no_variables_of_type(type_name, vrs)
     })
 }
 
@@ -572,8 +531,8 @@ pub unsafe extern "C" fn fmi3FreeFMUState(
     instance: fmi3Instance,
     FMUState: *mut fmi3FMUState,
 ) -> fmi3Status {
-    call(instance, Function::FreeFMUState, |i, call| {
-        free_state(i, call, FMUState)
+    call(instance, Function::FreeFMUState, |_, call| {
+        free_state(call, FMUState)
     })
 }
 
@@ -627,27 +586,24 @@ pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
     nSensitivity: usize,
 ) -> fmi3Status {
     const F: Function = Function::GetDirectionalDerivative;
-    call(instance, F, |inst, call| {
+    call(instance, F, |inst, _| {
         // Every variable is a scalar: one seed per known, one sensitivity per unknown.
         if nSeed != nKnowns || nSensitivity != nUnknowns {
-            return inst.invalid_argument(
-                F.name(),
-                format!("nSeed = {nSeed}, nSensitivity = {nSensitivity}: must equal nKnowns = {nKnowns} and nUnknowns = {nUnknowns} (every variable is a scalar)"),
-            );
+            return Err(Refusal::error(format!("nSeed = {nSeed}, nSensitivity = {nSensitivity}: must equal nKnowns = {nKnowns} and nUnknowns = {nUnknowns} (every variable is a scalar)")));
         }
         let Some(unknowns) = array(unknowns, nUnknowns) else {
-            return null(inst, F.name(), "unknowns", nUnknowns);
+            return Err(Refusal::null("unknowns", nUnknowns));
         };
         let Some(knowns) = array(knowns, nKnowns) else {
-            return null(inst, F.name(), "knowns", nKnowns);
+            return Err(Refusal::null("knowns", nKnowns));
         };
         let Some(seed) = array(seed, nSeed) else {
-            return null(inst, F.name(), "seed", nSeed);
+            return Err(Refusal::null("seed", nSeed));
         };
         let Some(sensitivity) = array_mut(sensitivity, nSensitivity) else {
-            return null(inst, F.name(), "sensitivity", nSensitivity);
+            return Err(Refusal::null("sensitivity", nSensitivity));
         };
-        inst.get_directional_derivative(call, unknowns, knowns, seed, sensitivity)
+        inst.get_directional_derivative(unknowns, knowns, seed, sensitivity)
     })
 }
 
@@ -681,19 +637,17 @@ pub unsafe extern "C" fn fmi3GetOutputDerivatives(
 ) -> fmi3Status {
     const F: Function = Function::GetOutputDerivatives;
     call(instance, F, |inst, call| {
-        if let Some(s) = scalar_count(inst, F, nValueReferences, nValues) {
-            return s;
-        }
+        scalar_count(nValueReferences, nValues)?;
         let Some(vrs) = array(valueReferences, nValueReferences) else {
-            return null(inst, F.name(), "valueReferences", nValueReferences);
+            return Err(Refusal::null("valueReferences", nValueReferences));
         };
         let Some(orders) = array(orders, nValueReferences) else {
-            return null(inst, F.name(), "orders", nValueReferences);
+            return Err(Refusal::null("orders", nValueReferences));
         };
         let Some(values) = array_mut(values, nValues) else {
-            return null(inst, F.name(), "values", nValues);
+            return Err(Refusal::null("values", nValues));
         };
-        inst.get_real_output_derivatives(call, vrs, orders, values)
+        inst.get_output_derivatives(call, vrs, orders, values)
     })
 }
 
@@ -747,23 +701,21 @@ pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
             nextEventTimeDefined.as_mut(),
             nextEventTime.as_mut(),
         ) else {
-            return inst.invalid_argument(F.name(), "an output argument is NULL");
+            return Err(Refusal::error("an output argument is NULL"));
         };
-        let (status, info) = inst.new_discrete_states(call);
-        if status == Status::Ok {
-            (*need, *terminate, *nominals) = (false, false, false);
-            *values = info.values_of_continuous_states_changed;
-            *defined = info.next_event_time.is_some();
-            *next = info.next_event_time.unwrap_or(0.0);
-        }
-        status
+        let info = inst.update_events(call)?;
+        (*need, *terminate, *nominals) = (false, false, false);
+        *values = info.values_of_continuous_states_changed;
+        *defined = info.next_event_time.is_some();
+        *next = info.next_event_time.unwrap_or(0.0);
+        Ok(Status::Ok)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3EnterContinuousTimeMode(instance: fmi3Instance) -> fmi3Status {
-    call(instance, Function::EnterContinuousTimeMode, |i, call| {
-        i.enter_continuous_time_mode(call)
+    call(instance, Function::EnterContinuousTimeMode, |i, _| {
+        i.enter_continuous_time_mode()
     })
 }
 
@@ -775,25 +727,23 @@ pub unsafe extern "C" fn fmi3CompletedIntegratorStep(
     terminateSimulation: *mut fmi3Boolean,
 ) -> fmi3Status {
     const F: Function = Function::CompletedIntegratorStep;
-    call(instance, F, |inst, call| {
+    call(instance, F, |_, _| {
         let (Some(event), Some(terminate)) =
             (enterEventMode.as_mut(), terminateSimulation.as_mut())
         else {
-            return inst.invalid_argument(F.name(), "enterEventMode or terminateSimulation = NULL");
+            return Err(Refusal::error(
+                "enterEventMode or terminateSimulation = NULL",
+            ));
         };
-        let status = inst.completed_integrator_step(call);
-        if status == Status::Ok {
-            (*event, *terminate) = (false, false);
-        }
-        status
+        // Nothing to do (no step events); never asks for an event or to terminate.
+        (*event, *terminate) = (false, false);
+        Ok(Status::Ok)
     })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3SetTime(instance: fmi3Instance, time: fmi3Float64) -> fmi3Status {
-    call(instance, Function::SetTime, |i, call| {
-        i.set_time(call, time)
-    })
+    call(instance, Function::SetTime, |i, _| i.set_time(time))
 }
 
 #[no_mangle]
@@ -802,14 +752,8 @@ pub unsafe extern "C" fn fmi3SetContinuousStates(
     continuousStates: *const fmi3Float64,
     nContinuousStates: usize,
 ) -> fmi3Status {
-    call(instance, Function::SetContinuousStates, |i, call| {
-        set_states(
-            i,
-            call,
-            "continuousStates",
-            continuousStates,
-            nContinuousStates,
-        )
+    call(instance, Function::SetContinuousStates, |i, _| {
+        set_states(i, "continuousStates", continuousStates, nContinuousStates)
     })
 }
 
@@ -898,19 +842,14 @@ unsafe fn get_count(
     instance: fmi3Instance,
     f: Function,
     n: *mut usize,
-    count: impl FnOnce(&mut Instance, Call) -> Result<usize, Status>,
+    count: impl FnOnce(&Instance) -> usize,
 ) -> fmi3Status {
-    call(instance, f, |inst, call| {
-        let Some(out) = n.as_mut() else {
-            return inst.invalid_argument(f.name(), "the count's pointer is NULL");
-        };
-        match count(inst, call) {
-            Ok(k) => {
-                *out = k;
-                Status::Ok
-            }
-            Err(s) => s,
-        }
+    call(instance, f, |inst, _| {
+        let out = n
+            .as_mut()
+            .ok_or_else(|| Refusal::error("the count's pointer is NULL"))?;
+        *out = count(inst);
+        Ok(Status::Ok)
     })
 }
 
@@ -920,8 +859,8 @@ pub unsafe extern "C" fn fmi3GetNumberOfEventIndicators(
     nEventIndicators: *mut usize,
 ) -> fmi3Status {
     let f = Function::GetNumberOfEventIndicators;
-    get_count(instance, f, nEventIndicators, |i, call| {
-        i.number_of_event_indicators(call)
+    get_count(instance, f, nEventIndicators, |i| {
+        i.number_of_event_indicators()
     })
 }
 
@@ -931,9 +870,7 @@ pub unsafe extern "C" fn fmi3GetNumberOfContinuousStates(
     nContinuousStates: *mut usize,
 ) -> fmi3Status {
     let f = Function::GetNumberOfContinuousStates;
-    get_count(instance, f, nContinuousStates, |i, call| {
-        i.number_of_states(call)
-    })
+    get_count(instance, f, nContinuousStates, |i| i.number_of_states())
 }
 
 // ---- Co-Simulation --------------------------------------------------------------------------
@@ -957,12 +894,9 @@ pub unsafe extern "C" fn fmi3DoStep(
             earlyReturn.as_mut(),
             lastSuccessfulTime.as_mut(),
         ) else {
-            return inst.invalid_argument(
-                F.name(),
-                "eventHandlingNeeded, terminateSimulation, earlyReturn and lastSuccessfulTime must not be NULL",
-            );
+            return Err(Refusal::error("eventHandlingNeeded, terminateSimulation, earlyReturn and lastSuccessfulTime must not be NULL"));
         };
-        let s = inst.do_step(call, currentCommunicationPoint, communicationStepSize);
+        let s = inst.step(call, currentCommunicationPoint, communicationStepSize);
         *event = false;
         *terminate = false;
         *early = false;

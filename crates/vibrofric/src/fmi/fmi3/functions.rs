@@ -4,6 +4,7 @@
 //! mode of Co-Simulation and configuration mode are not offered: their functions answer with an
 //! error in every state.
 
+use crate::description::xml3::TIME_VR;
 use crate::fmi::state::{Call, Interface, State, States, Vocabulary};
 
 /// A function of the FMI 3.0 C interface that acts on an instance.
@@ -183,4 +184,5 @@ pub static WORDS: Vocabulary = Vocabulary {
     get_state: "fmi3GetFMUState",
     deserialize_state: "fmi3DeserializeFMUState",
     state_size: "fmi3SerializedFMUStateSize",
+    time_vr: Some(TIME_VR),
 };
