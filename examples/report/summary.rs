@@ -377,7 +377,10 @@ pub fn summary(
          without reversal handling, and also with the Jacobian refreshed at every step, tried on \
          paper-longitudinal-k1e11): their Newton iteration does not converge on the contact's \
          stiff deformation. differential-equations' Radau5 `+rev` is the working stiff peer \
-         there.\n\
+         there on the velocity-driven cases. On the force-driven k_t = 1e11 cases it reaches \
+         `t_end` at every tolerance, but its `F_Fx` error stops falling with the tolerance at \
+         about 1e-5–1e-2·F_C (see the tightest runs below; not diagnosed), so the fastest peer \
+         at the tighter levels there is an explicit one.\n\
          - Python (`examples/peers/python_peers.py`): the equations written again from `docs/model.md` \
          in numpy with closed-form Jacobians, integrated by scipy's `solve_ivp` (LSODA, Radau, \
          DOP853) with `t_eval` samples and the same quadrature state, without reversal handling \
