@@ -3,6 +3,8 @@
 //! beside vibrofric's own simulator.
 //!
 //! `cargo run --release --example peers_check [-- TOL [T_END [K_T]]]`
+//! Prints each peer's `F_mean` against vibrofric's at tolerance 1e-10, and its largest `F_Fx`
+//! difference over the samples, relative to `F_C`.
 
 #[path = "report/peers.rs"]
 mod peers;
@@ -11,8 +13,8 @@ mod peers;
 #[allow(dead_code)]
 mod configs;
 
+use cpu_time::ThreadTime;
 use peers::RustPeer;
-use std::time::Instant;
 use vibrofric::model::{build, InputId, Law};
 use vibrofric::physics::Params;
 
@@ -35,12 +37,18 @@ fn main() {
     let mut sim = build(cfg, params, 0.0, 1e-10).expect("build");
     sim.set_input(InputId::VD, 1e-3).expect("v_d");
     let ode = sim.ode();
-    let clock = Instant::now();
-    sim.step_to(t_end).expect("vibrofric step_to");
+    let clock = ThreadTime::now();
+    let n_samples = (t_end / sample_dt).round() as usize + 1;
+    let mut samples = vec![sim.outputs().f_fx];
+    for k in 1..n_samples {
+        sim.step_to((k as f64 * sample_dt).min(t_end))
+            .expect("vibrofric step_to");
+        samples.push(sim.outputs().f_fx);
+    }
     let reference = sim.outputs().f_mean;
     println!(
-        "{:<32} {:>22} {:>10} {:>9} {:>10}",
-        "integrator", "F_mean [N]", "rel. diff", "time [s]", "steps"
+        "{:<32} {:>22} {:>10} {:>9} {:>10} {:>10}",
+        "integrator", "F_mean [N]", "rel. diff", "cpu [s]", "steps", "F_Fx/F_C"
     );
     println!(
         "{:<32} {:>22.15e} {:>10} {:>9.4} {:>10}",
@@ -55,16 +63,42 @@ fn main() {
             continue;
         }
         let r = peers::run(peer, &*ode, t_end, sample_dt, period, f_scale, tol, 20.0);
-        let n_expected = (t_end / sample_dt).round() as usize + 1;
+        let ffx = r
+            .samples
+            .iter()
+            .zip(&samples)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+            / f_scale;
+        if std::env::var_os("PEERS_CHECK_WORST").is_some() {
+            let mut errs: Vec<(f64, usize)> = r
+                .samples
+                .iter()
+                .zip(&samples)
+                .enumerate()
+                .map(|(k, (a, b))| ((a - b).abs(), k))
+                .collect();
+            errs.sort_by(|a, b| b.0.total_cmp(&a.0));
+            for &(e, k) in errs.iter().take(5) {
+                println!(
+                    "  worst: t = {:.6e}: peer {:.6e}, vibrofric {:.6e} ({e:.1e})",
+                    k as f64 * sample_dt,
+                    r.samples[k],
+                    samples[k]
+                );
+            }
+        }
         match &r.status {
             Ok(()) => println!(
-                "{:<32} {:>22.15e} {:>10.2e} {:>9.4} {:>10}  ({} samples of {n_expected})",
+                "{:<32} {:>22.15e} {:>10.2e} {:>9.4} {:>10} {:>10.1e}  ({} samples of {n_samples}, {} reversals)",
                 peer.name(),
                 r.f_mean,
                 (r.f_mean - reference).abs() / reference.abs(),
                 r.cpu_s,
                 r.steps,
+                ffx,
                 r.samples.len(),
+                r.reversals,
             ),
             Err(e) => println!(
                 "{:<32} failed after {:.4} s, {} steps: {e}",

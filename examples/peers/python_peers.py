@@ -4,7 +4,7 @@ driven by fmpy, on the cases of reports/cases.json (written by `cargo run --rele
 report -- --cases-only`).
 
     .venv/bin/python examples/peers/python_peers.py [--cases reports/cases.json] [--out reports/]
-        [--budget 20] [--run-cap 60] [--only SUBSTRING] [--solvers scipy-Radau fmu-fmpy ...]
+        [--budget 1] [--repeats 3] [--run-cap 20] [--only SUBSTRING] [--solvers scipy-Radau fmu-fmpy ...]
         [--quick]
 
 Writes OUT/peers_python.csv with the columns
@@ -27,20 +27,26 @@ Equations (written from `docs/model.md`, not from the Rust code, so that they ch
 scipy runs: rtol = tol, atol = tol·scale per component (s: s_ss = F_C/k_t; positions:
 max(u0, s_ss); velocities: max(v_a, |v_d|, |v_sx|, |v_sy|); Q: F_C·period); F_Fx sampled through
 `t_eval` on the truth's grid k·sample_dt. `steps` is scipy's `nfev` (right-hand-side
-evaluations; Jacobian evaluations not included). `cpu_s` is the wall time of the solve_ivp call
-(one thread).
+evaluations; Jacobian evaluations not included). `cpu_s` is the CPU time of this thread
+(time.thread_time) for the solve_ivp call, the least of --repeats runs. No reversal handling:
+solve_ivp's terminal events would allow locating the sign changes of v_rx and restarting there,
+but these peers run solve_ivp as given (no events, no max_step).
 
 FMU runs: fmpy.simulate_fmu on the directory extracted once, communication steps 1e-3 and 1e-5 s,
 start values = case.fmu_start + the case's inputs that the FMU has, relative_tolerance = tol.
 fmpy 0.3.x passes relative_tolerance to fmi2SetupExperiment(toleranceDefined = fmi2True,
 tolerance) for FMI 2.0 co-simulation; the script verifies that once per FMU by logging the FMI
 calls (`verify_tolerance_passing`) and stops if it is not so. `steps` is the number of
-communication steps (the FMU's internal steps are not visible through FMI); `cpu_s` the wall
-time of the simulate_fmu call (load, instantiate, initialise, all doSteps, recording).
+communication steps (the FMU's internal steps are not visible through FMI); `cpu_s` the thread
+CPU time of the simulate_fmu call (load, instantiate, initialise, all doSteps, recording; the FMU
+computes in the calling thread), the least of --repeats runs.
 
 Budget: per (case, solver[, comm_step]) the tolerances run from loose to tight; once a run takes
-longer than --budget seconds the tighter ones are recorded as `skipped`. A single run is aborted
-after --run-cap seconds (status `failed:timeout ...`, with the simulated time it reached). Errors:
+more than --budget seconds of CPU time the tighter ones are recorded as `skipped` (a run within the
+budget is repeated, --repeats in all). A single run is aborted after --run-cap seconds of wall
+time, by default max(20 × budget, 20 s), a guard against hangs that a loaded machine does not trip,
+and a scipy run after 3 × budget seconds of CPU time (status `failed:timeout ...`, with the
+simulated time it reached). Errors:
 f_mean_rel_err = |F_mean − truth.f_mean|/|truth.f_mean|; max_ffx_err = max_k |F_Fx(t_k) −
 truth_k|/truth.f_c over the sample grid (the FMU: over its communication points on that grid).
 In --quick mode (2 tolerances, t_end ≤ 0.01 s) the truth's f_mean does not apply to a case
@@ -383,18 +389,18 @@ def errors(case, f_mean, ffx_at_samples, sample_idx, truth_ffx, shortened):
 # scipy
 # ----------------------------------------------------------------------------------------------
 
-def run_scipy(model, method, tol, t_end, period, t_samples, cap):
+def run_scipy(model, method, tol, t_end, period, t_samples, cap, cpu_cap=math.inf):
     scale = model.scales(period)
     t_win = t_end - period
     t_eval = np.union1d(t_samples, [t_win, t_end])
     t_eval = t_eval[(t_eval >= 0) & (t_eval <= t_end)]
     i_win = int(np.argmin(np.abs(t_eval - t_win)))
-    t0 = time.perf_counter()
-    deadline = t0 + cap
+    t0 = time.thread_time()
+    deadline = time.perf_counter() + cap
     f = model.f
 
     def rhs(t, y):
-        if time.perf_counter() > deadline:
+        if time.perf_counter() > deadline or time.thread_time() - t0 > cpu_cap:
             raise Timeout(t)
         return f(t, y.tolist())[0]
 
@@ -408,12 +414,12 @@ def run_scipy(model, method, tol, t_end, period, t_samples, cap):
             warnings.simplefilter("ignore", RuntimeWarning)
             sol = solve_ivp(rhs, (0.0, t_end), np.zeros(model.n), **kw)
     except Timeout as e:
-        el = time.perf_counter() - t0
-        return dict(cpu_s=el, status=f"failed:timeout after {cap:g} s at t={float(e.args[0]):.3g}")
+        el = time.thread_time() - t0
+        return dict(cpu_s=el, status=f"failed:timeout after {el:.3g} s CPU at t={float(e.args[0]):.3g}")
     except Exception as e:  # noqa: BLE001 (recorded, not hidden)
-        el = time.perf_counter() - t0
+        el = time.thread_time() - t0
         return dict(cpu_s=el, status="failed:" + re.sub(r"[\s,]+", " ", str(e))[:120])
-    el = time.perf_counter() - t0
+    el = time.thread_time() - t0
     if sol.status != 0:
         return dict(cpu_s=el, steps=sol.nfev, status="failed:" + re.sub(r"[\s,]+", " ", sol.message)[:120])
     Y = sol.y
@@ -468,16 +474,18 @@ class FmuRunner:
         return setup[0]
 
     def run(self, start, tol, step, t_end, sample_dt, cap):
-        t0 = time.perf_counter()
+        t0 = time.thread_time()
+        w0 = time.perf_counter()
         try:
             res = self.simulate(start, tol, step, t_end, timeout=cap)
         except Exception as e:  # noqa: BLE001
-            return dict(cpu_s=time.perf_counter() - t0,
+            return dict(cpu_s=time.thread_time() - t0,
                         status="failed:" + re.sub(r"[\s,]+", " ", str(e))[:120])
-        el = time.perf_counter() - t0
+        el = time.thread_time() - t0
+        wall = time.perf_counter() - w0
         t = res["time"]
         if abs(t[-1] - t_end) > 1e-9 * max(1.0, t_end):
-            why = f"timeout after {cap:g} s" if el > cap else "stopped"
+            why = f"timeout after {cap:g} s" if wall > cap else "stopped"
             return dict(cpu_s=el, status=f"failed:{why} at t={t[-1]:.6g}")
         k = np.rint(t / sample_dt)
         on = np.abs(t - k * sample_dt) <= 1e-9 * sample_dt
@@ -512,10 +520,12 @@ def main(argv=None):
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--cases", default="reports/cases.json")
     ap.add_argument("--out", default="reports/")
-    ap.add_argument("--budget", type=float, default=20.0,
-                    help="stop tightening a (case, solver) series after a run longer than this [s]")
+    ap.add_argument("--budget", type=float, default=1.0,
+                    help="stop tightening a (case, solver) series after a run of more CPU time than this [s]")
+    ap.add_argument("--repeats", type=int, default=3,
+                    help="time of a run within the budget: the least CPU time of this many runs")
     ap.add_argument("--run-cap", type=float, default=None,
-                    help="abort a single run (scipy, or fmpy through its timeout) after this wall time [s] (default 3×budget)")
+                    help="abort a single run (scipy, or fmpy through its timeout) after this wall time [s] (default max(20×budget, 20))")
     ap.add_argument("--only", action="append", default=None,
                     help="run only the cases whose name contains this substring (repeatable)")
     ap.add_argument("--exact", action="store_true", help="--only matches whole case names")
@@ -525,7 +535,7 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true",
                     help=f"smoke test: tolerances {QUICK_TOLS}, t_end <= {QUICK_T_END} s")
     args = ap.parse_args(argv)
-    cap = args.run_cap if args.run_cap is not None else 3 * args.budget
+    cap = args.run_cap if args.run_cap is not None else max(20 * args.budget, 20.0)
 
     cases_path = pathlib.Path(args.cases)
     spec = json.loads(cases_path.read_text())
@@ -561,6 +571,19 @@ def main(argv=None):
     return 1 if bad else 0
 
 
+def best_of(run, repeats, budget):
+    """`run()` once and, if it succeeded within the budget, `repeats - 1` more times; the
+    result with the least CPU time (the results of the repeats are the same; only the time
+    differs). The same repeats as the Rust side's, for every solver."""
+    res = run()
+    if res["status"] == "ok" and res["cpu_s"] <= budget:
+        for _ in range(repeats - 1):
+            again = run()
+            if again["status"] == "ok" and again["cpu_s"] < res["cpu_s"]:
+                res = again
+    return res
+
+
 def run_case(case, args, tols, sample_dt, cap, workdir):
     name = case["name"]
     t_end = float(case["t_end"])
@@ -591,7 +614,9 @@ def run_case(case, args, tols, sample_dt, cap, workdir):
                 if over:
                     r["status"] = "skipped"
                 else:
-                    res = run_scipy(model, method, tol, t_end, period, t_samples, cap)
+                    res = best_of(lambda: run_scipy(model, method, tol, t_end, period, t_samples, cap,
+                                                    3 * args.budget),
+                                  args.repeats, args.budget)
                     fe, me = (errors(case, res.get("f_mean"), res.get("ffx"),
                                      np.arange(len(t_samples)), truth_ffx, shortened)
                               if res["status"] == "ok" else (None, None))
@@ -614,7 +639,8 @@ def run_case(case, args, tols, sample_dt, cap, workdir):
                     if over:
                         r["status"] = "skipped"
                     else:
-                        res = runner.run(start, tol, step, t_end, sample_dt, cap)
+                        res = best_of(lambda: runner.run(start, tol, step, t_end, sample_dt, cap),
+                                      args.repeats, args.budget)
                         fe, me = (errors(case, res.get("f_mean"), res.get("ffx"), res.get("sample_idx"),
                                          truth_ffx, shortened)
                                   if res["status"] == "ok" else (None, None))

@@ -37,7 +37,8 @@
 #![allow(dead_code)]
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::time::Instant;
+
+use cpu_time::ThreadTime;
 
 use vibrofric::model::Ode;
 
@@ -54,15 +55,22 @@ pub enum RustPeer {
     DeRadau5,
     /// `differential-equations` DOP853 (explicit Dormand–Prince 8(5,3)).
     DeDop853,
+    /// Radau5 with reversal handling: every sign change of `v_rx` located and the integration
+    /// restarted there, steps at most an eighth of the period.
+    DeRadau5Reversals,
+    /// DOP853 with the same reversal handling.
+    DeDop853Reversals,
 }
 
 impl RustPeer {
-    pub const ALL: [RustPeer; 5] = [
+    pub const ALL: [RustPeer; 7] = [
         RustPeer::DiffsolBdf,
         RustPeer::DiffsolTrBdf2,
         RustPeer::DiffsolEsdirk34,
         RustPeer::DeRadau5,
         RustPeer::DeDop853,
+        RustPeer::DeRadau5Reversals,
+        RustPeer::DeDop853Reversals,
     ];
 
     pub fn name(self) -> &'static str {
@@ -72,12 +80,22 @@ impl RustPeer {
             RustPeer::DiffsolEsdirk34 => "diffsol ESDIRK34",
             RustPeer::DeRadau5 => "differential-equations Radau5",
             RustPeer::DeDop853 => "differential-equations DOP853",
+            RustPeer::DeRadau5Reversals => "differential-equations Radau5 +rev",
+            RustPeer::DeDop853Reversals => "differential-equations DOP853 +rev",
         }
+    }
+
+    /// Whether the run locates the sign changes of `v_rx` and restarts there. The diffsol peers
+    /// always do (diffsol's root finding moves the state back to the root and goes on; it has
+    /// no step bound); the differential-equations peers run both ways, because the step bound
+    /// that makes the location reliable also costs steps.
+    pub fn reversals(self) -> bool {
+        !matches!(self, RustPeer::DeRadau5 | RustPeer::DeDop853)
     }
 
     /// Whether the method is meant for stiff problems (implicit, with a Jacobian).
     pub fn stiff_capable(self) -> bool {
-        !matches!(self, RustPeer::DeDop853)
+        !matches!(self, RustPeer::DeDop853 | RustPeer::DeDop853Reversals)
     }
 }
 
@@ -88,8 +106,11 @@ pub struct PeerRun {
     pub f_mean: f64,
     /// `F_Fx` at `t = k·sample_dt`, `k = 0..=round(t_end/sample_dt)` (fewer on failure).
     pub samples: Vec<f64>,
-    /// Wall time of the whole run (problem set-up and integration, one thread) [s].
+    /// CPU time of this thread for the whole run (problem set-up and integration; neither crate
+    /// spawns threads here) [s].
     pub cpu_s: f64,
+    /// Reversals (sign changes of `v_rx`) located and stepped to.
+    pub reversals: u64,
     /// Accepted steps, as the crate reports them (every peer here reports them).
     pub steps: u64,
     /// `Err("budget")` if the run went past `budget_s`; other errors are the crate's.
@@ -115,7 +136,8 @@ pub fn run(
     tol: f64,
     budget_s: f64,
 ) -> PeerRun {
-    let start = Instant::now();
+    let reversals = peer.reversals();
+    let start = ThreadTime::now();
     let mut rec = Recorder::new(ode, t_end, sample_dt, period, start, budget_s);
     let bad_input = if !(t_end.is_finite() && t_end > 0.0) {
         Some(format!("t_end = {t_end}: must be finite and > 0"))
@@ -131,13 +153,16 @@ pub fn run(
     let outcome = match bad_input {
         Some(msg) => Err(msg),
         None => {
-            let setup = Setup::new(ode, f_scale, period, tol);
+            let setup = Setup::new(ode, f_scale, period, tol, reversals);
             let rec_ref = &mut rec;
             catch_unwind(AssertUnwindSafe(move || match peer {
                 RustPeer::DiffsolBdf | RustPeer::DiffsolTrBdf2 | RustPeer::DiffsolEsdirk34 => {
                     ds::run(peer, &setup, rec_ref, t_end)
                 }
-                RustPeer::DeRadau5 | RustPeer::DeDop853 => de::run(peer, &setup, rec_ref, t_end),
+                RustPeer::DeRadau5
+                | RustPeer::DeDop853
+                | RustPeer::DeRadau5Reversals
+                | RustPeer::DeDop853Reversals => de::run(peer, &setup, rec_ref, t_end),
             }))
             .unwrap_or_else(|p| {
                 let msg = p
@@ -149,7 +174,7 @@ pub fn run(
             })
         }
     };
-    let cpu_s = start.elapsed().as_secs_f64();
+    let cpu_s = rec.start.elapsed().as_secs_f64();
     let (f_mean, steps, status) = match outcome {
         Ok(steps) => match (rec.q_a, rec.last) {
             (Some(q_a), Some((t, q_end))) if rec.at_end(t) && rec.next == rec.n_samples => {
@@ -167,6 +192,7 @@ pub fn run(
         f_mean,
         samples: rec.samples,
         cpu_s,
+        reversals: rec.reversals,
         steps,
         status,
     }
@@ -181,10 +207,18 @@ struct Setup<'a> {
     scale: Vec<f64>,
     rtol: f64,
     atol: Vec<f64>,
+    /// Locate every sign change of `v_rx` (the kinks of the right-hand side) and restart the
+    /// integration there.
+    reversals: bool,
+    /// Largest step (where the crate takes one): an eighth of the vibration period with
+    /// reversal handling, so that no step spans a whole lobe of `v_rx` (a step over both sign
+    /// changes of a lobe sees no sign change, and in saturated sliding its error estimate does
+    /// not see the lobe either); unbounded without.
+    h_max: f64,
 }
 
 impl<'a> Setup<'a> {
-    fn new(ode: &'a dyn Ode, f_scale: f64, period: f64, tol: f64) -> Self {
+    fn new(ode: &'a dyn Ode, f_scale: f64, period: f64, tol: f64, reversals: bool) -> Self {
         let n = ode.dim();
         let mut y0 = ode.state();
         y0.push(0.0);
@@ -198,7 +232,18 @@ impl<'a> Setup<'a> {
             scale,
             rtol: tol,
             atol,
+            reversals,
+            h_max: if reversals {
+                period / 8.0
+            } else {
+                f64::INFINITY
+            },
         }
+    }
+
+    /// `v_rx` on the augmented state.
+    fn v_rx(&self, t: f64, y: &[f64]) -> f64 {
+        self.ode.v_rx(t, &y[..self.n])
     }
 
     /// Augmented right-hand side: `[f(t, y); F_Fx(t, y)]`.
@@ -232,6 +277,99 @@ impl<'a> Setup<'a> {
     }
 }
 
+/// Checks [`Ode::jacobian`] against central differences of [`Ode::rhs`] at `(t, y)`: the largest
+/// difference of an entry, `|J_ij − D_ij|·scale_j`, relative to its row's largest
+/// `|J_ik|·scale_k`, with the step `h_j = 1e-6·max(|y_j|, scale_j)`. A column whose forward and
+/// backward differences disagree by more than 1e-3 of the row (a kink of the right-hand side, such
+/// as a reversal or a law's switching point, within `±h_j`) is left out. Returns the largest
+/// difference and the number of columns left out.
+pub fn jacobian_check(ode: &dyn Ode, t: f64, y: &[f64]) -> (f64, usize) {
+    let n = ode.dim();
+    let scale = ode.scale();
+    let mut jac = vec![0.0; n * n];
+    ode.jacobian(t, y, &mut jac);
+    let f0 = {
+        let mut f = vec![0.0; n];
+        ode.rhs(t, y, &mut f);
+        f
+    };
+    let row_scale: Vec<f64> = (0..n)
+        .map(|i| {
+            (0..n)
+                .map(|k| (jac[i * n + k] * scale[k]).abs())
+                .fold(0.0, f64::max)
+                .max(f64::MIN_POSITIVE)
+        })
+        .collect();
+    let (mut worst, mut skipped) = (0.0_f64, 0);
+    let (mut fp, mut fm) = (vec![0.0; n], vec![0.0; n]);
+    for j in 0..n {
+        let h = 1e-6 * y[j].abs().max(scale[j]);
+        let mut yp = y.to_vec();
+        yp[j] = y[j] + h;
+        ode.rhs(t, &yp, &mut fp);
+        yp[j] = y[j] - h;
+        ode.rhs(t, &yp, &mut fm);
+        let kink = (0..n).any(|i| {
+            let fwd = (fp[i] - f0[i]) / h;
+            let bwd = (f0[i] - fm[i]) / h;
+            (fwd - bwd).abs() * scale[j] > 1e-3 * row_scale[i]
+        });
+        if kink {
+            skipped += 1;
+            continue;
+        }
+        for i in 0..n {
+            let d = (fp[i] - fm[i]) / (2.0 * h);
+            worst = worst.max((jac[i * n + j] - d).abs() * scale[j] / row_scale[i]);
+        }
+    }
+    (worst, skipped)
+}
+
+/// The sign change of `g` in `[a, b]`, where `g(a)` and `g(b)` are nonzero and of opposite
+/// signs: the Illinois variant of regula falsi, to a bracket of width `4ε·|b|`. Returns the end of
+/// the final bracket on `b`'s side (`g` already has `g(b)`'s sign there), so that a restart from it
+/// does not find the same reversal again.
+fn locate(
+    mut a: f64,
+    mut ga: f64,
+    mut b: f64,
+    mut gb: f64,
+    g: &mut dyn FnMut(f64) -> Result<f64, String>,
+) -> Result<f64, String> {
+    let mut side = 0;
+    for _ in 0..200 {
+        if (b - a).abs() <= 4.0 * f64::EPSILON * b.abs().max(a.abs()) {
+            break;
+        }
+        let mut c = b - gb * (b - a) / (gb - ga);
+        if !(c > a.min(b) && c < a.max(b)) {
+            c = 0.5 * (a + b);
+        }
+        let gc = g(c)?;
+        if gc == 0.0 {
+            return Ok(c);
+        }
+        if gc.signum() == gb.signum() {
+            b = c;
+            gb = gc;
+            if side == 1 {
+                ga *= 0.5;
+            }
+            side = 1;
+        } else {
+            a = c;
+            ga = gc;
+            if side == -1 {
+                gb *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    Ok(b)
+}
+
 /// Collects the samples and `Q(t_end − period)` from dense output, step by step.
 struct Recorder<'a> {
     ode: &'a dyn Ode,
@@ -242,9 +380,11 @@ struct Recorder<'a> {
     samples: Vec<f64>,
     t_a: f64,
     q_a: Option<f64>,
-    start: Instant,
+    start: ThreadTime,
     budget_s: f64,
     steps_seen: u64,
+    /// Reversals located (the integration stopped at each and restarted from it).
+    reversals: u64,
     /// `(t, Q(t))` at the end of the last accepted step.
     last: Option<(f64, f64)>,
 }
@@ -255,7 +395,7 @@ impl<'a> Recorder<'a> {
         t_end: f64,
         sample_dt: f64,
         period: f64,
-        start: Instant,
+        start: ThreadTime,
         budget_s: f64,
     ) -> Self {
         let n_samples = if t_end > 0.0 && sample_dt > 0.0 {
@@ -275,6 +415,7 @@ impl<'a> Recorder<'a> {
             start,
             budget_s,
             steps_seen: 0,
+            reversals: 0,
             last: None,
         }
     }
@@ -400,6 +541,18 @@ mod ds {
                 move |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(&y0),
                 m,
             )
+            // diffsol's root finding: a step across a sign change of v_rx reports the root,
+            // and `drive` moves the state back to it (`state_mut_back`) before going on.
+            .root(
+                |x: &[f64], _p: &[f64], t: f64, g: &mut [f64]| {
+                    g[0] = if setup.reversals {
+                        setup.v_rx(t, x)
+                    } else {
+                        1.0
+                    }
+                },
+                1,
+            )
             .build()
             .map_err(|e| format!("diffsol: {e}"))?;
         match peer {
@@ -443,8 +596,35 @@ mod ds {
         let mut t_prev = 0.0;
         loop {
             let reason = solver.step().map_err(|e| format!("diffsol: {e}"))?;
-            let t = solver.state().t;
+            let mut t = solver.state().t;
             let done = matches!(reason, OdeSolverStopReason::TstopReached);
+            let root = match reason {
+                OdeSolverStopReason::RootFound(t_root, _) if t_root > t_prev && t_root < t => {
+                    Some(t_root)
+                }
+                _ => None,
+            };
+            if let Some(t_root) = root {
+                // Samples up to the reversal from the step's interpolant, then on from it.
+                {
+                    let solver_ref = &solver;
+                    let mut interp = |s: f64| -> Result<Vec<f64>, String> {
+                        solver_ref
+                            .interpolate(s)
+                            .map(|v| to_vec(&v))
+                            .map_err(|e| format!("diffsol interpolate: {e}"))
+                    };
+                    rec.take(t_prev, t_root, false, &mut interp)?;
+                }
+                solver
+                    .state_mut_back(t_root)
+                    .map_err(|e| format!("diffsol state_mut_back: {e}"))?;
+                rec.reversals += 1;
+                t = t_root;
+                t_prev = t;
+                rec.stepped(t, solver.state().y.get_index(setup.n))?;
+                continue;
+            }
             let solver_ref = &solver;
             let mut interp = |s: f64| -> Result<Vec<f64>, String> {
                 if s == t {
@@ -472,7 +652,7 @@ mod ds {
 /// iteration from `Y::zeros()`, which for a `Vec<f64>` state is empty and panics
 /// ("State length mismatch"); arrays are also what the crate's examples use.
 mod de {
-    use super::{Recorder, RustPeer, Setup};
+    use super::{locate, Recorder, RustPeer, Setup};
     use differential_equations::control::ControlFlag;
     use differential_equations::error::Error;
     use differential_equations::interpolate::Interpolation;
@@ -508,15 +688,21 @@ mod de {
     }
 
     /// Samples from the method's interpolant after every accepted step, and stops the
-    /// integration once the budget is spent.
+    /// integration once the budget is spent, or at a located reversal (the caller restarts
+    /// from it).
     struct Out<'r, 'a> {
         rec: &'r mut Recorder<'a>,
+        setup: &'r Setup<'a>,
         /// The next call is the one `solve_ode` makes before the first step.
         first: bool,
         /// Whether that call's state is the run's initial state (first segment only).
         record_initial: bool,
-        /// State at the end of the last accepted step.
+        /// State at the end of the last accepted step (or at the located reversal).
         y_last: Vec<f64>,
+        /// Sign of `v_rx` after the last accepted step (0 before any nonzero value).
+        sign: f64,
+        /// The reversal this segment stopped at.
+        reversal: Option<f64>,
         failure: Option<String>,
     }
 
@@ -526,7 +712,7 @@ mod de {
             t_curr: f64,
             t_prev: f64,
             y_curr: &[f64; M],
-            _y_prev: &[f64; M],
+            y_prev: &[f64; M],
             interpolator: &mut I,
             _solution: &mut Solution<f64, [f64; M]>,
         ) -> ControlFlag<f64, [f64; M]>
@@ -538,6 +724,7 @@ mod de {
                 self.first = false;
                 if self.record_initial {
                     self.rec.initial(y_curr);
+                    self.sign = self.setup.v_rx(t_curr, y_curr).signum();
                 }
                 return ControlFlag::Continue;
             }
@@ -551,13 +738,40 @@ mod de {
                         .map_err(|e| describe(&e))
                 }
             };
-            self.y_last.clear();
-            self.y_last.extend_from_slice(y_curr);
-            let r = self
-                .rec
-                .take(t_prev, t_curr, false, &mut interp)
-                .and_then(|()| self.rec.stepped(t_curr, y_curr[M - 1]));
+            let r = (|| {
+                let g1 = self.setup.v_rx(t_curr, y_curr);
+                let mut t_stop = t_curr;
+                if self.setup.reversals && g1 != 0.0 && self.sign != 0.0 && g1.signum() != self.sign
+                {
+                    // g at the step's start; at a restart point v_rx may be zero or of the
+                    // old sign by rounding: the bracket's start then counts with the sign
+                    // tracked from the step that located the last reversal.
+                    let g0 = self.setup.v_rx(t_prev, y_prev);
+                    let g0 = if g0.signum() == self.sign && g0 != 0.0 {
+                        g0
+                    } else {
+                        self.sign * f64::MIN_POSITIVE
+                    };
+                    let setup = self.setup;
+                    t_stop = locate(t_prev, g0, t_curr, g1, &mut |s| {
+                        Ok(setup.v_rx(s, &interp(s)?))
+                    })?;
+                    self.reversal = Some(t_stop);
+                }
+                if g1 != 0.0 {
+                    self.sign = g1.signum();
+                }
+                self.rec.take(t_prev, t_stop, false, &mut interp)?;
+                let y = interp(t_stop)?;
+                self.rec.stepped(t_stop, y[M - 1])?;
+                self.y_last = y;
+                Ok::<(), String>(())
+            })();
             match r {
+                Ok(()) if self.reversal.is_some() => {
+                    self.rec.reversals += 1;
+                    ControlFlag::Terminate
+                }
                 Ok(()) => ControlFlag::Continue,
                 Err(msg) => {
                     self.failure = Some(msg);
@@ -584,10 +798,10 @@ mod de {
         format!("differential-equations: {what}")
     }
 
-    pub(super) fn run(
+    pub(super) fn run<'a>(
         peer: RustPeer,
-        setup: &Setup<'_>,
-        rec: &mut Recorder<'_>,
+        setup: &Setup<'a>,
+        rec: &mut Recorder<'a>,
         t_end: f64,
     ) -> Result<u64, String> {
         match setup.n + 1 {
@@ -604,10 +818,10 @@ mod de {
         }
     }
 
-    fn run_m<const M: usize>(
+    fn run_m<'a, const M: usize>(
         peer: RustPeer,
-        setup: &Setup<'_>,
-        rec: &mut Recorder<'_>,
+        setup: &Setup<'a>,
+        rec: &mut Recorder<'a>,
         t_end: f64,
     ) -> Result<u64, String> {
         let sys = Sys {
@@ -621,36 +835,53 @@ mod de {
             .map_err(|_| "state dimension mismatch".to_string())?;
         let mut out = Out {
             rec,
+            setup,
             first: true,
             record_initial: true,
             y_last: Vec::with_capacity(M),
+            sign: 0.0,
+            reversal: None,
             failure: None,
         };
-        // Two segments, [0, t_a] and [t_a, t_end] with t_a = t_end − period, so that Q(t_a) is
-        // a step end: DOP853's dense output in this crate (0.7.0) evaluates Hairer's `contd8`
-        // with `s` and `1 − s` swapped in its high-order part (interpolation errors ~500× the
-        // step-end errors, order ≈ 5 instead of 7, seen on y'' = −y), and Radau5's is the
-        // order-3 collocation polynomial. The samples still come from the dense output.
+        // Segments end at t_a = t_end − period and t_end, so that Q(t_a) is a step end:
+        // DOP853's dense output in this crate (0.7.0) evaluates Hairer's `contd8` with `s` and
+        // `1 − s` swapped in its high-order part (interpolation errors ~500× the step-end errors,
+        // order ≈ 5 instead of 7, seen on y'' = −y), and Radau5's is the order-3 collocation
+        // polynomial. The samples still come from the dense output. With reversal handling a
+        // segment also ends at every located sign change of v_rx, and the next starts from the
+        // state interpolated there (as with scipy's terminal events).
         let t_a = out.rec.t_a;
         let mut steps = 0;
         let mut y_start = y0;
         let mut t_start = 0.0;
         for t_stop in [t_a, t_end] {
-            if t_stop <= t_start {
-                continue;
+            while t_stop > t_start {
+                out.first = true;
+                out.reversal = None;
+                steps += segment(peer, setup, &sys, t_start, t_stop, &y_start, &mut out)?;
+                if out.failure.is_some() {
+                    break;
+                }
+                y_start = out
+                    .y_last
+                    .as_slice()
+                    .try_into()
+                    .map_err(|_| "differential-equations: no step taken".to_string())?;
+                out.record_initial = false;
+                match out.reversal {
+                    // A reversal within rounding of the segment's end: the segment is done.
+                    Some(t_r) if t_stop - t_r > 1e-12 * t_stop.abs().max(1e-300) => t_start = t_r,
+                    _ => {
+                        if out.rec.q_a.is_none() && t_stop == t_a {
+                            out.rec.q_a = Some(out.y_last[M - 1]);
+                        }
+                        t_start = t_stop
+                    }
+                }
             }
-            out.first = true;
-            steps += segment(peer, setup, &sys, t_start, t_stop, &y_start, &mut out)?;
             if out.failure.is_some() {
                 break;
             }
-            y_start = out
-                .y_last
-                .as_slice()
-                .try_into()
-                .map_err(|_| "differential-equations: no step taken".to_string())?;
-            t_start = t_stop;
-            out.record_initial = false;
         }
         match out.failure {
             Some(msg) => Err(msg),
@@ -673,10 +904,11 @@ mod de {
         // The budget, not a step count, bounds the work.
         let max_steps = usize::MAX / 2;
         let result = match peer {
-            RustPeer::DeDop853 => {
+            RustPeer::DeDop853 | RustPeer::DeDop853Reversals => {
                 let mut method = ExplicitRungeKutta::dop853()
                     .rtol(rtol)
                     .atol(atol)
+                    .h_max(setup.h_max)
                     .max_steps(max_steps);
                 solve_ode(&mut method, sys, t0, tf, y0, out)
             }
@@ -684,6 +916,7 @@ mod de {
                 let mut method = ImplicitRungeKutta::radau5()
                     .rtol(rtol)
                     .atol(atol)
+                    .h_max(setup.h_max)
                     .max_steps(max_steps);
                 solve_ode(&mut method, sys, t0, tf, y0, out)
             }

@@ -37,7 +37,10 @@ def test_quick_radau_agrees_with_fmu(tmp_path):
     cases = {"sample_dt": 1e-4, "tolerances": [1e-4, 1e-8], "cases": [contact_case()]}
     (tmp_path / "cases.json").write_text(json.dumps(cases))
     subprocess.run([sys.executable, str(SCRIPT), "--cases", str(tmp_path / "cases.json"),
-                    "--out", str(tmp_path), "--quick"], check=True, cwd=ROOT)
+                    "--out", str(tmp_path), "--quick", "--repeats", "1",
+                    # The budget of the timed report (1 s of CPU time) could skip the tighter
+                    # tolerance on a loaded machine; this test is about agreement, not time.
+                    "--budget", "20"], check=True, cwd=ROOT)
     with (tmp_path / "peers_python.csv").open() as fh:
         reader = csv.DictReader(fh)
         assert reader.fieldnames == python_peers.COLUMNS
