@@ -116,7 +116,17 @@ fn reference_rows_agree_with_the_reader() {
     );
     // Every row's scene text is one the reader accepts.
     for (law, motion, drive, lateral) in configurations() {
-        Scene::parse(&scene_text(law, motion, drive, lateral, &["harmonic"]), "x").unwrap();
+        Scene::parse(
+            &scene_text(
+                law,
+                motion,
+                drive,
+                lateral,
+                &[vibrofric::table::Support::Harmonic],
+            ),
+            "x",
+        )
+        .unwrap();
     }
     // The errors quoted are the reader's.
     assert!(md.contains("my-scene.toml:6: colour = \"red\": unknown key; valid: model_identifier"));
@@ -170,7 +180,7 @@ fn fmu_pages_carry_the_picture_usage_and_platform() {
                 "{file}"
             );
             assert!(page.contains("<code>T_avg</code>"), "{file}");
-            if s.config.law == vibrofric::model::Law::LuGre {
+            if s.config.law.has_contact_damping() {
                 assert!(page.contains("<code>zeta_t</code> (LuGre)"), "{file}");
                 assert!(page.contains("The static force follows the load"), "{file}");
             }

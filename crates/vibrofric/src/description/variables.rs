@@ -11,8 +11,7 @@ use std::sync::LazyLock;
 
 pub use crate::table::Variability;
 use crate::table::{
-    Config, Dependency, Drive, IndicatorId, InputId, Inputs, Known, OutputId, ParamId, Params,
-    StateId,
+    Config, Dependency, IndicatorId, InputId, Inputs, Known, OutputId, ParamId, Params, StateId,
 };
 
 /// What a variable is bound to in the model.
@@ -117,7 +116,7 @@ impl Variable {
         match self.kind {
             VarKind::Param(ParamId::FN) if c.normal_input => Causality::Input,
             VarKind::Param(_) => Causality::Parameter,
-            VarKind::Input(InputId::FD) if c.drive == Drive::Spring => Causality::Output,
+            VarKind::Input(InputId::FD) if c.drive.has_spring() => Causality::Output,
             VarKind::Input(_) => Causality::Input,
             VarKind::Output(_) => Causality::Output,
             VarKind::State(_) | VarKind::Derivative(_) | VarKind::Indicator(_) => Causality::Local,
@@ -146,7 +145,7 @@ impl Variable {
     pub fn present(&self, c: &Config, outputs: &[OutputId]) -> bool {
         match self.kind {
             VarKind::Param(p) => p.present(c),
-            VarKind::Input(InputId::FD) if c.drive == Drive::Spring => {
+            VarKind::Input(InputId::FD) if c.drive.has_spring() => {
                 outputs.contains(&OutputId::FDrive)
             }
             VarKind::Input(i) => i.present(c),
@@ -202,7 +201,7 @@ impl Variable {
     pub fn output(&self, c: &Config) -> Option<OutputId> {
         match self.kind {
             VarKind::Output(o) => Some(o),
-            VarKind::Input(InputId::FD) if c.drive == Drive::Spring => Some(OutputId::FDrive),
+            VarKind::Input(InputId::FD) if c.drive.has_spring() => Some(OutputId::FDrive),
             _ => None,
         }
     }
@@ -302,7 +301,7 @@ mod tests {
         let c = Config {
             law: Law::Dahl,
             motion: crate::table::Motion::Longitudinal,
-            drive: Drive::Velocity,
+            drive: crate::table::Drive::Velocity,
             lateral: crate::table::Lateral::Guided,
             harmonic: true,
             input_support: false,

@@ -74,7 +74,7 @@ pub fn build_on(
             id.check_in(id.get(&params), &config)?;
         }
     }
-    if config.law == Law::LuGre {
+    if config.law.has_static_force() {
         if let Some(why) = params.static_force_inverted() {
             return Err(SimError::Inconsistent(why));
         }

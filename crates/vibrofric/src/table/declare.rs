@@ -281,3 +281,67 @@ macro_rules! outputs {
         }
     };
 }
+
+/// Declares a scene's choice key and its values as rows: the enum (one variant per value), and
+/// for each value its spelling in a scene file and its name in prose; for the key its name, what
+/// the reference says it requires, what it means, and the rule a value outside the set breaks.
+/// The scene reader, the scene reference (`docs/scenes.md`) and the documentation pages read
+/// these rows; nothing else spells a value.
+macro_rules! choices {
+    (
+        $(#[doc = $doc:literal])*
+        $name:ident {
+            key: $key:literal,
+            requirement: $requirement:literal,
+            $(missing: $missing:literal,)?
+            $(default: $default:ident,)?
+            meaning: $meaning:literal,
+            refusal: $refusal:literal,
+            values: {$(
+                $(#[doc = $vdoc:literal])*
+                $v:ident => $word:literal, $title:literal;
+            )*}
+        }
+    ) => {
+        $(#[doc = $doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+        pub enum $name {
+            $( $(#[doc = $vdoc])* $v, )*
+        }
+
+        impl $name {
+            /// Every value, in declaration order (the order the reference lists them).
+            pub const ALL: [$name; count!($($v)*)] = [$($name::$v),*];
+
+            /// The scene key and its rows.
+            pub const KEY: ChoiceKey = ChoiceKey {
+                name: $key,
+                requirement: $requirement,
+                missing: choices!(@option $($missing)?),
+                meaning: $meaning,
+                refusal: $refusal,
+                words: &[$($word),*],
+            };
+
+            /// The value when the scene leaves the key out (`None`: the key is required).
+            pub const DEFAULT: Option<$name> = choices!(@option $($name::$default)?);
+
+            /// The value as a scene writes it.
+            pub const fn word(self) -> &'static str {
+                match self { $( $name::$v => $word, )* }
+            }
+
+            /// The value's name in prose (summaries, documentation pages).
+            pub const fn title(self) -> &'static str {
+                match self { $( $name::$v => $title, )* }
+            }
+
+            /// The value a scene's word names.
+            pub fn from_word(word: &str) -> Option<$name> {
+                $name::ALL.into_iter().find(|v| v.word() == word)
+            }
+        }
+    };
+    (@option) => { None };
+    (@option $x:expr) => { Some($x) };
+}

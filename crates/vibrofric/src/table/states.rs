@@ -16,7 +16,7 @@
 //! | `drive.x_d` | `v_d` |
 //! | `window.F_int` | `F_Fx` |
 
-use super::{Config, Drive, InputId, Law, OutputId};
+use super::{Config, Drive, InputId, OutputId};
 
 /// One continuous state of Model Exchange.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -144,14 +144,14 @@ impl StateId {
 
     /// True when a scene with this configuration and these outputs has the state.
     pub fn present(self, c: &Config, outputs: &[OutputId]) -> bool {
-        let force_or_spring = c.drive != Drive::Velocity;
+        let force_or_spring = !c.drive.imposes_velocity();
         match self {
             StateId::Sx => true,
             StateId::Sy => c.planar(),
             StateId::X => true,
             StateId::Vx => force_or_spring,
             StateId::Y | StateId::Vy => c.lateral_free(),
-            StateId::Xd => c.drive == Drive::Spring,
+            StateId::Xd => c.drive.has_spring(),
             StateId::Window => {
                 outputs.contains(&OutputId::FMean) || outputs.contains(&OutputId::Reduction)
             }
@@ -165,7 +165,7 @@ impl StateId {
         let mut d = match self {
             StateId::Sx => rate_knowns(c, 0),
             StateId::Sy => rate_knowns(c, 1),
-            StateId::X if c.drive == Drive::Velocity => vec![Known::Input(InputId::VD)],
+            StateId::X if c.drive.imposes_velocity() => vec![Known::Input(InputId::VD)],
             StateId::X => vec![Known::State(StateId::Vx)],
             StateId::Y => vec![Known::State(StateId::Vy)],
             StateId::Vx => {
@@ -237,7 +237,7 @@ pub fn velocity_knowns(c: &Config) -> Vec<Known> {
 pub fn rate_knowns(c: &Config, k: usize) -> Vec<Known> {
     let own = [StateId::Sx, StateId::Sy][k];
     let mut d = vec![Known::State(own)];
-    if c.planar() && c.law == Law::Dupont {
+    if c.planar() && c.law.has_breakaway() {
         d.push(Known::State([StateId::Sy, StateId::Sx][k]));
     }
     d.extend(velocity_knowns(c));
@@ -250,7 +250,7 @@ pub fn rate_knowns(c: &Config, k: usize) -> Vec<Known> {
 /// The knowns component `k` of the friction force depends on: `k_t·s` for Dahl and Dupont;
 /// LuGre adds `h_t(|v_r|)·ds/dt + h_v·v_r`, so the deformation rate's knowns.
 pub fn force_knowns(c: &Config, k: usize) -> Vec<Known> {
-    if c.law == Law::LuGre {
+    if c.law.force_has_rate() {
         rate_knowns(c, k)
     } else {
         vec![Known::State([StateId::Sx, StateId::Sy][k])]
@@ -369,7 +369,7 @@ impl IndicatorId {
     pub fn present(self, c: &Config) -> bool {
         match self {
             IndicatorId::Slip => true,
-            IndicatorId::Direction => c.planar() && c.law == Law::Dupont,
+            IndicatorId::Direction => c.planar() && c.law.has_breakaway(),
             IndicatorId::LiftOff => c.normal_input,
         }
     }
