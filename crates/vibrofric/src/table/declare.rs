@@ -345,3 +345,84 @@ macro_rules! choices {
     (@option) => { None };
     (@option $x:expr) => { Some($x) };
 }
+
+/// Declares the continuous states of Model Exchange, one row per state: the id enum
+/// [`StateId`](super::StateId) and every fact of a state and of its derivative as a method.
+/// Value references follow the declaration order (301.., derivatives 401..).
+macro_rules! states {
+    ($(
+        $(#[doc = $doc:literal])*
+        $id:ident {
+            name: $name:literal,
+            unit: $unit:literal,
+            display: $display:expr,
+            description: $description:literal,
+            derivative_unit: $dunit:literal,
+            derivative_description: $ddescription:literal,
+            present: $present:expr,
+            derivative_knowns: $knowns:expr $(,)?
+        }
+    )*) => {
+        /// One continuous state of Model Exchange.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum StateId {
+            $( #[doc = $description] $(#[doc = $doc])* $id, )*
+        }
+
+        impl StateId {
+            /// Every state, in declaration (value reference) order.
+            pub const ALL: [StateId; count!($($id)*)] = [$(StateId::$id),*];
+            pub const COUNT: usize = StateId::ALL.len();
+
+            pub fn name(self) -> &'static str {
+                match self { $( StateId::$id => $name, )* }
+            }
+
+            /// The derivative's name, `der(<state>)`.
+            pub fn derivative_name(self) -> &'static str {
+                match self { $( StateId::$id => concat!("der(", $name, ")"), )* }
+            }
+
+            pub fn unit(self) -> &'static str {
+                match self { $( StateId::$id => $unit, )* }
+            }
+
+            pub fn derivative_unit(self) -> &'static str {
+                match self { $( StateId::$id => $dunit, )* }
+            }
+
+            pub fn display_unit(self) -> Option<&'static str> {
+                match self { $( StateId::$id => $display, )* }
+            }
+
+            pub fn description(self) -> &'static str {
+                match self { $( StateId::$id => $description, )* }
+            }
+
+            pub fn derivative_description(self) -> &'static str {
+                match self { $( StateId::$id => $ddescription, )* }
+            }
+
+            /// True when a scene with this configuration and these outputs has the state.
+            pub fn present(self, c: &Config, outputs: &[OutputId]) -> bool {
+                match self {
+                    $( StateId::$id => {
+                        let present: fn(&Config, &[OutputId]) -> bool = $present;
+                        present(c, outputs)
+                    } )*
+                }
+            }
+
+            /// The knowns the derivative depends on, before those the scene lacks are dropped
+            /// ([`StateId::derivative_dependencies`]).
+            fn derivative_knowns(self, c: &Config) -> Vec<Known> {
+                match self {
+                    $( StateId::$id => {
+                        let knowns: fn(&Config) -> Vec<Known> = $knowns;
+                        knowns(c)
+                    } )*
+                }
+            }
+        }
+    };
+}
