@@ -34,8 +34,9 @@ use zip::{CompressionMethod, DateTime, ZipWriter};
 
 use platforms::{Request, Shipped};
 use vibrofric::description::variables::{Causality, VarKind};
-use vibrofric::description::{docs, xml, xml3, Scene};
+use vibrofric::description::{xml, xml3, Scene};
 use vibrofric::model::{self, InputId, StateId};
+use vibrofric_docs::docs;
 use vibrofric_import::fmi3::Fmu3;
 use vibrofric_import::Fmu;
 

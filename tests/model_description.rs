@@ -848,7 +848,7 @@ fn exporter_refuses_a_bad_scene_and_names_it() {
 #[test]
 fn documentation_lists_every_variable() {
     for (file, s) in scenes() {
-        let doc = vibrofric::description::docs::index_html(&s);
+        let doc = vibrofric_docs::docs::index_html(&s);
         for v in s.variables() {
             assert!(
                 doc.contains(&format!("<td><code>{}</code></td>", v.name())),

@@ -1,10 +1,7 @@
 //! What an FMU declares: the variable table, scenes, and the generated `modelDescription.xml`.
 //! Knows the model's identifiers, nothing of the integrator or of C.
 
-pub mod docs;
-pub mod figure;
 pub mod log;
-pub mod reference;
 pub mod scene;
 pub mod variables;
 pub mod xml;

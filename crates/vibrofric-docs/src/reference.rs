@@ -9,11 +9,11 @@
 
 use std::fmt::Write as _;
 
-use crate::description::scene::{default_inputs, KeyValues, Scene, KEYS};
-use crate::description::variables::{Causality, VarKind, Variable, VARIABLES};
-use crate::description::xml;
-use crate::table::Params;
-use crate::table::{Config, Drive, Lateral, Law, Motion, Support};
+use vibrofric::description::scene::{default_inputs, KeyValues, Scene, KEYS};
+use vibrofric::description::variables::{Causality, VarKind, Variable, VARIABLES};
+use vibrofric::description::xml;
+use vibrofric::table::Params;
+use vibrofric::table::{Config, Drive, Lateral, Law, Motion, Support};
 
 fn code_list(words: &[&str]) -> String {
     words
@@ -130,8 +130,9 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
     writeln!(
         w,
         "# Scene reference\n\n\
-         <!-- Generated from the scene reader (src/description/scene.rs) and the variable table \
-         (src/description/variables.rs) by src/description/reference.rs. Do not edit: \
+         <!-- Generated from the scene reader (crates/vibrofric/src/description/scene.rs) and \
+         the variable table (crates/vibrofric/src/table/table.rs) by \
+         crates/vibrofric-docs/src/reference.rs. Do not edit: \
          regenerate with `UPDATE_DOCS=1 cargo test --test docs_reference`. -->\n\n\
          A scene is a TOML file that says what an FMU contains: the friction law, the motion, \
          the drive, the support motion, the outputs and the start values. `cargo run --release` \
@@ -373,7 +374,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
             w,
             "| `{file}` | `{}` | {} | {} | {} |",
             s.model_identifier,
-            crate::description::scene::summary(&s.config),
+            vibrofric::description::scene::summary(&s.config),
             s.variables().count(),
             if changed.is_empty() {
                 "—".into()
@@ -444,7 +445,7 @@ fn where_present(scenes: &[Scene], has: impl Fn(&Scene) -> bool) -> Result<Strin
         .find(|(_, cond)| scenes.iter().all(|s| cond(&s.config) == has(s)))
         .map(|(text, _)| text)
         .ok_or_else(|| {
-            "no condition in reference.rs CONDITIONS describes the scenes that have this variable"
+            "no condition in reference.rs conditions() describes the scenes that have this variable"
                 .to_string()
         })
 }

@@ -4,11 +4,11 @@
 //! itself. Plain HTML with no script, readable offline in any browser: a partner who receives
 //! only the `.fmu` finds everything here.
 
-use crate::description::figure::sign_convention_svg;
-use crate::description::scene::{summary, Scene};
-use crate::description::variables::{Causality, VarKind, Variable};
-use crate::description::xml::{self, DEFAULT_EXPERIMENT, DISPLAY_UNITS};
-use crate::table::{Drive, InputId, Law};
+use crate::figure::sign_convention_svg;
+use vibrofric::description::scene::{summary, Scene};
+use vibrofric::description::variables::{Causality, VarKind, Variable};
+use vibrofric::description::xml::{self, DEFAULT_EXPERIMENT, DISPLAY_UNITS};
+use vibrofric::table::{Drive, InputId, Law};
 
 /// The FMI standard a page speaks: the names of its calls, its identifier and its importer
 /// classes. The two editions of a scene share variables, value references and results.
@@ -141,7 +141,7 @@ fn start_html(scene: &Scene, v: &Variable) -> String {
     s
 }
 
-fn range_html(v: &Variable, c: &crate::table::Config) -> String {
+fn range_html(v: &Variable, c: &vibrofric::table::Config) -> String {
     if v.causality(c) == Causality::Output {
         return String::new();
     }
@@ -803,7 +803,7 @@ fn page(scene: &Scene, binaries: &[Binary], ed: Edition) -> String {
     h.push_str(&platform_html(scene, binaries));
 
     h.push_str("<h2>Logging</h2>\n<ul>\n");
-    for c in crate::description::log::Category::ALL {
+    for c in vibrofric::description::log::Category::ALL {
         let (name, d) = (c.name(), c.description());
         let d = in_words_of(ed, d);
         h.push_str(&format!("<li><code>{name}</code>: {}</li>\n", escape(&d)));
