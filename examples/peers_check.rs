@@ -14,7 +14,7 @@ mod configs;
 use peers::RustPeer;
 use std::time::Instant;
 use vibrofric::model::{build, InputId, Law};
-use vibrofric::physics::Params;
+use vibrofric::table::Params;
 
 fn main() {
     let args: Vec<f64> = std::env::args()

@@ -887,7 +887,7 @@ fn initial_unknown_dependencies_hold_in_the_core() {
     use vibrofric::description::variables::VarKind;
     use vibrofric::model::build;
     for (file, s) in scenes() {
-        let at_start = |params: vibrofric::physics::Params, inputs: vibrofric::model::Inputs| {
+        let at_start = |params: vibrofric::table::Params, inputs: vibrofric::model::Inputs| {
             let mut sim = build(s.config, params, 0.0, 1e-6).unwrap();
             for i in vibrofric::model::InputId::ALL {
                 if i.present(&s.config) {

@@ -42,7 +42,7 @@ use std::time::Instant;
 
 use vibrofric::description::Scene;
 use vibrofric::model::{build, canonical_time, Config, Drive, InputId, Law, Motion, Simulator};
-use vibrofric::physics::{ParamId, Params};
+use vibrofric::table::{ParamId, Params};
 
 /// Spacing of the `F_Fx` samples: five per period at 2 kHz.
 const SAMPLE_DT: f64 = 1e-4;

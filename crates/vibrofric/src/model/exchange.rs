@@ -391,7 +391,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
 mod tests {
     use super::*;
     use crate::model::{build, Lateral, Law, Motion, Simulator};
-    use crate::physics::Params;
+    use crate::table::Params;
     use crate::table::{Config, Known, OutputId};
 
     fn configs() -> Vec<Config> {
