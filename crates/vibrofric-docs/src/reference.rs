@@ -124,9 +124,29 @@ fn minus<'a>(a: &[&'a Variable], b: &[&'a Variable]) -> Vec<&'a Variable> {
 }
 
 /// `docs/scenes.md`: `standard` is every standard scene as (file name, scene).
+/// `docs/scenes.md`: `standard` is every standard scene as (file name, scene).
 pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
+    let configs = configurations();
+    // Which choices a variable appears with: every configuration with every support motion.
+    let all_supports: [&[Support]; 3] = [&[Support::Harmonic], &[Support::Input], &Support::ALL];
+    let mut scenes_all: Vec<Scene> = vec![];
+    for &(law, motion, drive, lateral) in &configs {
+        for s in all_supports {
+            scenes_all.push(parse(&scene_text(law, motion, drive, lateral, s))?);
+        }
+    }
     let mut m = String::new();
-    let w = &mut m;
+    intro(&mut m)?;
+    keys_section(&mut m)?;
+    parameters_section(&mut m, &scenes_all)?;
+    outputs_section(&mut m, &scenes_all)?;
+    combinations_section(&mut m, &configs)?;
+    standard_section(&mut m, standard)?;
+    Ok(m)
+}
+
+/// The title, what a scene is, and an example.
+fn intro(w: &mut String) -> Result<(), String> {
     writeln!(
         w,
         "# Scene reference\n\n\
@@ -157,8 +177,11 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
          ```\n"
     )
     .unwrap();
+    Ok(())
+}
 
-    // Keys.
+/// The keys, and errors the reader gives.
+fn keys_section(w: &mut String) -> Result<(), String> {
     writeln!(
         w,
         "## Keys\n\n| key | values | required / default | meaning |\n|---|---|---|---|"
@@ -198,8 +221,11 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
             Err(e) => writeln!(w, "    {e}").unwrap(),
         }
     }
+    Ok(())
+}
 
-    // Parameters and inputs.
+/// Every parameter and input, with the scenes that have it.
+fn parameters_section(w: &mut String, scenes_all: &[Scene]) -> Result<(), String> {
     writeln!(
         w,
         "\n## Parameters and inputs (`[start]`)\n\n\
@@ -211,20 +237,11 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
          |---|---|---|---|---|---|---|---|"
     )
     .unwrap();
-    let configs = configurations();
-    let all_supports: [&[Support]; 3] = [&[Support::Harmonic], &[Support::Input], &Support::ALL];
-    // Which choices a variable appears with: scan every configuration and support motion.
-    let mut scenes_all: Vec<Scene> = vec![];
-    for &(law, motion, drive, lateral) in &configs {
-        for s in all_supports {
-            scenes_all.push(parse(&scene_text(law, motion, drive, lateral, s))?);
-        }
-    }
     for v in VARIABLES
         .iter()
         .filter(|v| matches!(v.kind, VarKind::Param(_) | VarKind::Input(_)))
     {
-        let present = where_present(&scenes_all, |s| s.has_vr(v.vr) && v.settable(&s.config))
+        let present = where_present(scenes_all, |s| s.has_vr(v.vr) && v.settable(&s.config))
             .map_err(|e| format!("{}: {e}", v.name()))?;
         writeln!(
             w,
@@ -241,8 +258,11 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         )
         .unwrap();
     }
+    Ok(())
+}
 
-    // Outputs.
+/// Every output, with the scenes that have it.
+fn outputs_section(w: &mut String, scenes_all: &[Scene]) -> Result<(), String> {
     writeln!(
         w,
         "\n## Outputs\n\n| name | value reference | unit | display unit | in scenes with | description |\n|---|---|---|---|---|---|"
@@ -253,7 +273,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         if !scenes_all.iter().any(has) {
             continue;
         }
-        let present = where_present(&scenes_all, has).map_err(|e| format!("{}: {e}", v.name()))?;
+        let present = where_present(scenes_all, has).map_err(|e| format!("{}: {e}", v.name()))?;
         let description = if matches!(v.kind, VarKind::Input(_)) {
             "Spring-drive force on the body along x, `k_d·(x_d − x) + c_d·(v_d − v_x)` (an output in spring drive, the input of a force drive)"
         } else {
@@ -277,8 +297,14 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         "\nThe key `outputs` keeps a subset; leaving it out keeps every output the scene can have."
     )
     .unwrap();
+    Ok(())
+}
 
-    // Per configuration.
+/// What each law × motion × drive has.
+fn combinations_section(
+    w: &mut String,
+    configs: &[(Law, Motion, Drive, Option<Lateral>)],
+) -> Result<(), String> {
     writeln!(
         w,
         "\n## What each combination has\n\n\
@@ -290,7 +316,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
          |---|---|---|---|---|---|---|"
     )
     .unwrap();
-    for &(law, motion, drive, lateral) in &configs {
+    for &(law, motion, drive, lateral) in configs {
         let h = parse(&scene_text(
             law,
             motion,
@@ -348,8 +374,11 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         )
         .unwrap();
     }
+    Ok(())
+}
 
-    // Standard scenes.
+/// The standard scenes and the start values each sets.
+fn standard_section(w: &mut String, standard: &[(String, Scene)]) -> Result<(), String> {
     writeln!(
         w,
         "\n## The standard scenes (`scenes/`)\n\n| file | FMU | configuration | variables | start values set by the scene |\n|---|---|---|---|---|"
@@ -384,7 +413,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         )
         .unwrap();
     }
-    Ok(m)
+    Ok(())
 }
 
 /// The conditions a variable's presence is described by, in the words of the scene keys (a

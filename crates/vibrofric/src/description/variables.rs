@@ -1,5 +1,5 @@
 //! The variables as a model description lists them: one row per value reference, made from the
-//! declarations of `src/table/table.rs`, with the causality, variability, `initial`, start
+//! declarations of `table/table.rs`, with the causality, variability, `initial`, start
 //! value and bounds each has in a scene. The generated `modelDescription.xml` and get/set by
 //! value reference both read these rows.
 //!
