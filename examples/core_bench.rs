@@ -11,7 +11,7 @@ mod common;
 
 use std::time::Instant;
 use vibrofric::model::{build_on, InputId, Law, Path, StepStats};
-use vibrofric::physics::Params;
+use vibrofric::table::Params;
 
 /// Best of 5 runs: (F_mean, seconds, work).
 fn run(params: Params, tol: f64, path: Path, step: f64) -> (f64, f64, StepStats) {

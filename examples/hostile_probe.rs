@@ -9,12 +9,12 @@ use std::time::Instant;
 
 use vibrofric::description::scene::Scene;
 use vibrofric::model::{build, InputId, OutputId};
-use vibrofric::physics::ParamId;
+use vibrofric::table::ParamId;
 
 /// A case: its name, what it does to the parameters, and an input to set.
 type Case = (
     String,
-    Box<dyn Fn(&mut vibrofric::physics::Params)>,
+    Box<dyn Fn(&mut vibrofric::table::Params)>,
     Option<(InputId, f64)>,
 );
 

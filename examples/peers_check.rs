@@ -16,7 +16,7 @@ mod configs;
 use cpu_time::ThreadTime;
 use peers::RustPeer;
 use vibrofric::model::{build, InputId, Law};
-use vibrofric::physics::Params;
+use vibrofric::table::Params;
 
 fn main() {
     let args: Vec<f64> = std::env::args()

@@ -18,7 +18,7 @@ use vibrofric::description::scene::Scene;
 use vibrofric::model::{
     build, Config, Drive, InputId, Inputs, Law, Motion, Path as SolverPath, StepStats,
 };
-use vibrofric::physics::Params;
+use vibrofric::table::Params;
 
 const RUNS: usize = 9;
 const T_END: f64 = 0.1;

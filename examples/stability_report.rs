@@ -14,7 +14,7 @@ use std::time::Instant;
 use common::configs::{long_velocity, planar_force};
 use common::ExactDahl;
 use vibrofric::model::{build, Config, InputId, Law, OutputId};
-use vibrofric::physics::Params;
+use vibrofric::table::Params;
 
 const TOL: f64 = 1e-6;
 

@@ -13,7 +13,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use vibrofric::description::docs;
+use vibrofric_docs::docs;
 
 use crate::{binary, elf};
 

@@ -17,7 +17,7 @@ use std::path::PathBuf;
 
 use vibrofric::description::{xml, Scene};
 use vibrofric::model::{self, InputId};
-use vibrofric::physics::ParamId;
+use vibrofric::table::ParamId;
 
 /// What the command line asks for.
 #[derive(Clone, Debug, PartialEq, clap::Args)]

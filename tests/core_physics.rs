@@ -11,7 +11,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use common::{coulomb_longitudinal, coulomb_transverse, rk4, ExactDahl};
 use vibrofric::model::{build, Config, Drive, InputId, Lateral, Law, Motion, Outputs, Simulator};
-use vibrofric::physics::Params;
+use vibrofric::table::Params;
 
 fn config(law: Law, motion: Motion, drive: Drive, lateral: Lateral) -> Config {
     Config {

@@ -6,7 +6,7 @@ use std::path::Path as FsPath;
 
 use vibrofric::description::scene::Scene;
 use vibrofric::model::{build, Drive, InputId, Simulator};
-use vibrofric::physics::ParamId;
+use vibrofric::table::ParamId;
 
 fn scene(file: &str) -> Scene {
     Scene::load(FsPath::new("scenes").join(file).as_path()).unwrap()
@@ -344,7 +344,7 @@ fn normal_force_ramp_matches_the_exact_solution() {
         input_support: true,
         normal_input: true,
     };
-    let p = vibrofric::physics::Params::default();
+    let p = vibrofric::table::Params::default();
     let (a, b, v) = (55.0, -500.0, 1e-3);
     let c = v * p.k_t / (p.mu * b);
     let exact = |t: f64| {

@@ -1,7 +1,7 @@
 //! The generated parts of the user's guide (`docs/`) against the code they describe, and the
 //! guide's links.
 //!
-//! - `docs/scenes.md` is written by `vibrofric::description::reference` from the scene reader and
+//! - `docs/scenes.md` is written by `vibrofric_docs::reference` from the scene reader and
 //!   the variable table; `docs/sign-convention.svg` is the picture every FMU's documentation
 //!   page shows. A change to the code that changes either fails here until the checked-in copy
 //!   is regenerated with
@@ -15,10 +15,10 @@
 
 use std::path::{Path, PathBuf};
 
-use vibrofric::description::docs;
-use vibrofric::description::figure::{sign_convention_svg, SIGN_CONVENTION_SVG};
-use vibrofric::description::reference::{self, configurations, scene_text};
 use vibrofric::description::Scene;
+use vibrofric_docs::docs;
+use vibrofric_docs::figure::{sign_convention_svg, SIGN_CONVENTION_SVG};
+use vibrofric_docs::reference::{self, configurations, scene_text};
 
 const REGENERATE: &str =
     "regenerate with `UPDATE_DOCS=1 cargo test --test docs_reference` and review the diff";
@@ -116,7 +116,17 @@ fn reference_rows_agree_with_the_reader() {
     );
     // Every row's scene text is one the reader accepts.
     for (law, motion, drive, lateral) in configurations() {
-        Scene::parse(&scene_text(law, motion, drive, lateral, &["harmonic"]), "x").unwrap();
+        Scene::parse(
+            &scene_text(
+                law,
+                motion,
+                drive,
+                lateral,
+                &[vibrofric::table::Support::Harmonic],
+            ),
+            "x",
+        )
+        .unwrap();
     }
     // The errors quoted are the reader's.
     assert!(md.contains("my-scene.toml:6: colour = \"red\": unknown key; valid: model_identifier"));
@@ -170,7 +180,7 @@ fn fmu_pages_carry_the_picture_usage_and_platform() {
                 "{file}"
             );
             assert!(page.contains("<code>T_avg</code>"), "{file}");
-            if s.config.law == vibrofric::model::Law::LuGre {
+            if s.config.law.has_contact_damping() {
                 assert!(page.contains("<code>zeta_t</code> (LuGre)"), "{file}");
                 assert!(page.contains("The static force follows the load"), "{file}");
             }

@@ -8,7 +8,7 @@ use fmi_harness::*;
 use vibrofric::description::variables::{Causality, VarKind};
 use vibrofric::description::Scene;
 use vibrofric::model::{self, InputId, Inputs, OutputId, Simulator};
-use vibrofric::physics::Params;
+use vibrofric::table::Params;
 use vibrofric_import::{Functions, Status};
 
 const H: f64 = 1e-3;

@@ -10,8 +10,8 @@ use std::path::Path as FsPath;
 
 use vibrofric::description::scene::Scene;
 use vibrofric::model::{build, InputId, OutputId, SimError, Simulator, TOLERANCE_RANGE};
-use vibrofric::physics::ParamId;
 use vibrofric::solver::SolverError;
+use vibrofric::table::ParamId;
 
 fn scene(file: &str) -> Scene {
     Scene::load(FsPath::new("scenes").join(file).as_path()).unwrap()

@@ -187,3 +187,33 @@ fn no_two_files_of_a_layer_import_each_other() {
         }
     }
 }
+
+/// The export-time writers (documentation pages, `docs/scenes.md`) are a crate beside the FMU's
+/// library, not in it, and read only its `description` and `table` layers: they sit above
+/// `description` and nothing in the library reaches them.
+#[test]
+fn export_time_writers_stay_outside_the_library() {
+    let docs = Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/vibrofric-docs/src");
+    let allowed = ["description", "table"];
+    for file in files(&docs) {
+        for used in names_after(&code(&file), "vibrofric::") {
+            assert!(
+                allowed.contains(&used.as_str()),
+                "{} imports vibrofric::{used}; the export-time writers may read only {allowed:?}",
+                file.display()
+            );
+        }
+    }
+    for file in files(&src()) {
+        assert!(
+            !code(&file).contains("vibrofric_docs"),
+            "{} reaches the export-time writers",
+            file.display()
+        );
+    }
+    let manifest = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("crates/vibrofric/Cargo.toml"),
+    )
+    .unwrap();
+    assert!(!manifest.contains("vibrofric-docs"));
+}

@@ -848,7 +848,7 @@ fn exporter_refuses_a_bad_scene_and_names_it() {
 #[test]
 fn documentation_lists_every_variable() {
     for (file, s) in scenes() {
-        let doc = vibrofric::description::docs::index_html(&s);
+        let doc = vibrofric_docs::docs::index_html(&s);
         for v in s.variables() {
             assert!(
                 doc.contains(&format!("<td><code>{}</code></td>", v.name())),
@@ -887,7 +887,7 @@ fn initial_unknown_dependencies_hold_in_the_core() {
     use vibrofric::description::variables::VarKind;
     use vibrofric::model::build;
     for (file, s) in scenes() {
-        let at_start = |params: vibrofric::physics::Params, inputs: vibrofric::model::Inputs| {
+        let at_start = |params: vibrofric::table::Params, inputs: vibrofric::model::Inputs| {
             let mut sim = build(s.config, params, 0.0, 1e-6).unwrap();
             for i in vibrofric::model::InputId::ALL {
                 if i.present(&s.config) {

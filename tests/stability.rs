@@ -10,7 +10,7 @@ mod common;
 use common::configs::{long_velocity, planar_force};
 use common::ExactDahl;
 use vibrofric::model::{build, Config, Drive, InputId, Law, OutputId, Simulator};
-use vibrofric::physics::Params;
+use vibrofric::table::Params;
 
 const TOL: f64 = 1e-6;
 

@@ -6,7 +6,7 @@
 
 use vibrofric::description::scene::Scene;
 use vibrofric::model::{build, InputId, Outputs, Simulator};
-use vibrofric::physics::ParamId;
+use vibrofric::table::ParamId;
 
 const TOL: f64 = 1e-8;
 
@@ -18,7 +18,7 @@ fn scene(normal: &str, start: &str) -> Scene {
 }
 
 /// The simulator of a scene with parameters `p`, its input F_d at the scene's start value.
-fn start(s: &Scene, p: vibrofric::physics::Params) -> Box<dyn Simulator> {
+fn start(s: &Scene, p: vibrofric::table::Params) -> Box<dyn Simulator> {
     let mut sim = build(s.config, p, 0.0, TOL).unwrap();
     sim.set_input(InputId::FD, s.inputs.f_d).unwrap();
     sim

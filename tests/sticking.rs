@@ -8,7 +8,7 @@ use std::path::Path;
 
 use vibrofric::description::scene::Scene;
 use vibrofric::model::{build, Config, Drive, InputId, Lateral, Law, Motion, Outputs};
-use vibrofric::physics::Params;
+use vibrofric::table::Params;
 
 const TOL: f64 = 1e-6;
 /// Communication steps of the issue: 1e-4 s (the reference) up to 0.5 s.

@@ -57,7 +57,7 @@ use cpu_time::ThreadTime;
 
 use vibrofric::description::Scene;
 use vibrofric::model::{build, canonical_time, Config, Drive, InputId, Law, Motion, Simulator};
-use vibrofric::physics::{ParamId, Params};
+use vibrofric::table::{ParamId, Params};
 
 /// Spacing of the `F_Fx` samples: five per period at 2 kHz.
 const SAMPLE_DT: f64 = 1e-4;
@@ -568,16 +568,15 @@ fn write_cases_json(cases: &[Case], truths: &[Truth], dir: &Path, tols: &[f64]) 
             .iter()
             .map(|(n, v)| format!("\"{n}\": {v:e}"))
             .collect();
-        use vibrofric::description::scene::{drive_name, lateral_name, law_name, motion_name};
         write!(
             j,
             "    {{\"name\": \"{}\", \"fmu\": \"dist/{}.fmu\",\n     \"config\": {{\"law\": \"{}\", \"motion\": \"{}\", \"drive\": \"{}\", \"lateral\": \"{}\", \"harmonic\": {}, \"input_support\": {}}},\n     \"params\": {{{}}},\n     \"fmu_start\": {{{}}},\n     \"inputs\": {{{}}},\n     \"t_end\": {:e}, \"period\": {:e},\n     \"truth\": {{\"f_mean\": {:e}, \"f_c\": {:e}, \"samples\": \"{}\", \"error\": {:e}, \"method\": \"{}\"}}}}",
             c.name,
             c.scene.model_identifier,
-            law_name(cfg.law),
-            motion_name(cfg.motion),
-            drive_name(cfg.drive),
-            lateral_name(cfg.lateral),
+            cfg.law.word(),
+            cfg.motion.word(),
+            cfg.drive.word(),
+            cfg.lateral.word(),
             cfg.harmonic,
             cfg.input_support,
             params.join(", "),

@@ -3,16 +3,17 @@
 //!
 //! Layers, from the bottom up, each importing only those below it (`tests/layers.rs` checks;
 //! `docs/architecture.md` draws them):
-//! - [`table`]: every parameter, input and output declared once, and a scene's choices;
+//! - [`table`]: every parameter, input, output, continuous state and scene choice declared once;
 //! - [`physics`]: friction laws, support motion (no FMI, no integrator);
 //! - [`solver`]: the integrators (no physics, no XML);
 //! - [`model`]: a contact as a [`model::Simulator`], specialised at compile time per scene;
-//! - [`description`]: scenes, the generated model descriptions and documentation;
+//! - [`description`]: scenes and the generated model descriptions (the documentation pages and
+//!   `docs/scenes.md` are written by the `vibrofric-docs` crate, outside the library);
 //! - [`fmi`]: one instance and the thin `extern "C"` layers of FMI 2.0 and 3.0.
 //!
 //! `unsafe` code lives only in the C layers; everything else is safe Rust. The importer
-//! (`vibrofric-import`) and the command line (`vibrofric-cli`) are crates of their own: the
-//! shared library carries only what an FMU runs.
+//! (`vibrofric-import`), the export-time writers (`vibrofric-docs`) and the command line
+//! (`vibrofric-cli`) are crates of their own: the shared library carries only what an FMU runs.
 #![deny(unsafe_code)]
 // The C library's exp, ln, pow, sin, cos differ between Linux, Windows and macOS in the last bit;
 // the model calls the `libm` crate's instead (`clippy.toml` forbids the others outside tests).

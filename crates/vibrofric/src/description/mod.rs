@@ -1,10 +1,9 @@
-//! What an FMU declares: the variable table, scenes, and the generated `modelDescription.xml`.
-//! Knows the model's identifiers, nothing of the integrator or of C.
+//! What an FMU declares: its scene, the rows of its variables, and the generated
+//! `modelDescription.xml` (FMI 2.0 and 3.0). Knows the model's identifiers, nothing of the
+//! integrator or of C. The documentation pages and `docs/scenes.md` are written at export time by
+//! the `vibrofric-docs` crate, from these.
 
-pub mod docs;
-pub mod figure;
 pub mod log;
-pub mod reference;
 pub mod scene;
 pub mod variables;
 pub mod xml;

@@ -20,22 +20,8 @@ use serde::Deserialize;
 use toml::{Spanned, Value};
 
 use crate::description::variables::{VarKind, Variable, VARIABLES};
-use crate::table::{Config, Drive, InputId, Inputs, Lateral, Law, Motion, OutputId};
-use crate::table::{ParamId, Params};
-
-/// The top-level keys of a scene file, in the order the documentation lists them.
-pub const KEYS: [&str; 10] = [
-    "model_identifier",
-    "description",
-    "law",
-    "motion",
-    "drive",
-    "lateral",
-    "support",
-    "normal",
-    "outputs",
-    "start",
-];
+use crate::table::{ChoiceKey, Config, Drive, InputId, Inputs, Lateral, Law, Motion, Normal};
+use crate::table::{OutputId, ParamId, Params, Support};
 
 /// A value as an error message shows it: at most 200 characters, then how long it was.
 pub fn shown(s: &str) -> String {
@@ -49,63 +35,74 @@ pub fn shown(s: &str) -> String {
 /// Longest model identifier: it names the FMU file, its library and the C symbols' prefix.
 pub const MAX_IDENTIFIER: usize = 64;
 
-/// The values of the choice keys, as the reader accepts them.
-pub const LAWS: [&str; 3] = ["dahl", "dupont", "lugre"];
-pub const MOTIONS: [&str; 2] = ["longitudinal", "planar"];
-pub const DRIVES: [&str; 3] = ["force", "velocity", "spring"];
-pub const LATERALS: [&str; 2] = ["free", "guided"];
-pub const SUPPORTS: [&str; 2] = ["harmonic", "input"];
-pub const NORMALS: [&str; 2] = ["parameter", "input"];
+/// What a top-level key takes, for the reference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KeyValues {
+    /// Described in words.
+    Text(&'static str),
+    /// One of these words.
+    OneOf(&'static [&'static str]),
+    /// A non-empty array of these words.
+    ArrayOf(&'static [&'static str]),
+}
 
-/// What each key of [`KEYS`] is, for the generated reference: (key, required or default,
-/// meaning). A unit test keeps it in the order of [`KEYS`].
-pub const KEY_HELP: [(&str, &str, &str); 10] = [
-    (
-        "model_identifier",
-        "required",
-        "The FMU's model identifier: its file name `<model_identifier>.fmu` and the name of its shared library. A C identifier (a letter or `_`, then letters, digits or `_`; not a C keyword), different in every scene exported together.",
-    ),
-    (
-        "description",
-        "default: a summary of law, motion, drive and support motion",
-        "Free text, shown by importers and on the FMU's documentation page.",
-    ),
-    ("law", "required", "The friction law of the contact."),
-    (
-        "motion",
-        "required",
-        "`longitudinal`: every quantity is a scalar along x. `planar`: deformation, velocities and friction force are vectors in the sliding plane (x, y).",
-    ),
-    (
-        "drive",
-        "default: `\"force\"`",
-        "How the body is driven along x: `force` (input `F_d`, the body's motion is integrated), `velocity` (input `v_d` imposed; `F_Fx` is then the driving force), `spring` (a spring `k_d` and damper `c_d` whose far end moves at the input `v_d`; `F_d` is an output).",
-    ),
-    (
-        "lateral",
-        "default: `\"guided\"`; only in planar scenes with velocity drive",
-        "Lateral motion of a velocity-driven body: `free` (`m·dv_y/dt = −F_Fy`) or `guided` (`v_y = 0`).",
-    ),
-    (
-        "support",
-        "required, a non-empty array",
-        "The support motion: `harmonic` (built in: `u0`, `f`, `phase`, and `angle` in planar scenes), `input` (support velocities `v_sx`, `v_sy` set by the importer), or both (summed).",
-    ),
-    (
-        "normal",
-        "default: `\"parameter\"`",
-        "The normal force `F_N`: a tunable `parameter`, or a continuous `input` from the host (held or extrapolated with its input derivative; `F_C = mu·F_N(t)` and what follows from it change with it; LuGre's `F_S` and `zeta_t` are given at `F_N`'s start value and follow the load as with a parameter `F_N`; a negative `F_N` is refused, and below the tolerance times the start value the body has lifted off: no friction, no deformation). Its value reference is 2 in either case.",
-    ),
-    (
-        "outputs",
-        "default: every output the scene can have",
-        "The outputs the FMU exposes, a non-empty array of names (see the tables below for which a scene can have).",
-    ),
-    (
-        "start",
-        "default: none",
-        "A table of start values that override the defaults: any parameter or input of the scene (see the tables below), in SI units.",
-    ),
+/// A top-level key of a scene file: its name, what it takes, whether it is required (or its
+/// default) and what it means.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Key {
+    pub name: &'static str,
+    pub values: KeyValues,
+    pub requirement: &'static str,
+    pub meaning: &'static str,
+}
+
+impl Key {
+    const fn choice(k: ChoiceKey) -> Key {
+        Key {
+            name: k.name,
+            values: KeyValues::OneOf(k.words),
+            requirement: k.requirement,
+            meaning: k.meaning,
+        }
+    }
+}
+
+/// The top-level keys of a scene file, in the order the documentation lists them; the choice
+/// keys are the rows of `table/config.rs`.
+pub const KEYS: [Key; 10] = [
+    Key {
+        name: "model_identifier",
+        values: KeyValues::Text("string (C identifier)"),
+        requirement: "required",
+        meaning: "The FMU's model identifier: its file name `<model_identifier>.fmu` and the name of its shared library. A C identifier (a letter or `_`, then letters, digits or `_`; not a C keyword), different in every scene exported together.",
+    },
+    Key {
+        name: "description",
+        values: KeyValues::Text("string"),
+        requirement: "default: a summary of law, motion, drive and support motion",
+        meaning: "Free text, shown by importers and on the FMU's documentation page.",
+    },
+    Key::choice(Law::KEY),
+    Key::choice(Motion::KEY),
+    Key::choice(Drive::KEY),
+    Key::choice(Lateral::KEY),
+    Key {
+        values: KeyValues::ArrayOf(Support::KEY.words),
+        ..Key::choice(Support::KEY)
+    },
+    Key::choice(Normal::KEY),
+    Key {
+        name: "outputs",
+        values: KeyValues::Text("array of output names"),
+        requirement: "default: every output the scene can have",
+        meaning: "The outputs the FMU exposes, a non-empty array of names (see the tables below for which a scene can have).",
+    },
+    Key {
+        name: "start",
+        values: KeyValues::Text("table: name = number"),
+        requirement: "default: none",
+        meaning: "A table of start values that override the defaults: any parameter or input of the scene (see the tables below), in SI units.",
+    },
 ];
 
 /// A parsed and checked scene.
@@ -185,52 +182,17 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
-/// The names and words of the configuration choices, as written in a scene.
-pub fn law_name(l: Law) -> &'static str {
-    match l {
-        Law::Dahl => "dahl",
-        Law::Dupont => "dupont",
-        Law::LuGre => "lugre",
-    }
-}
-
-pub fn motion_name(m: Motion) -> &'static str {
-    match m {
-        Motion::Longitudinal => "longitudinal",
-        Motion::Planar => "planar",
-    }
-}
-
-pub fn drive_name(d: Drive) -> &'static str {
-    match d {
-        Drive::Force => "force",
-        Drive::Velocity => "velocity",
-        Drive::Spring => "spring",
-    }
-}
-
-pub fn lateral_name(l: Lateral) -> &'static str {
-    match l {
-        Lateral::Free => "free",
-        Lateral::Guided => "guided",
-    }
-}
-
 /// One-line summary of a configuration, e.g. `Dahl law, planar motion, force drive, harmonic
 /// and input support motion`.
 pub fn summary(c: &Config) -> String {
-    let law = match c.law {
-        Law::Dahl => "Dahl",
-        Law::Dupont => "Dupont elasto-plastic",
-        Law::LuGre => "LuGre",
-    };
     let mut s = format!(
-        "{law} friction, {} motion, {} drive",
-        motion_name(c.motion),
-        drive_name(c.drive)
+        "{} friction, {} motion, {} drive",
+        c.law.title(),
+        c.motion.title(),
+        c.drive.title()
     );
-    if c.planar() && c.drive == Drive::Velocity {
-        s.push_str(&format!(" (lateral {})", lateral_name(c.lateral)));
+    if c.has_lateral_choice() {
+        s.push_str(&format!(" (lateral {})", c.lateral.title()));
     }
     let support = match (c.harmonic, c.input_support) {
         (true, true) => "harmonic and input",
@@ -315,26 +277,47 @@ fn quoted(words: &[&str]) -> Vec<String> {
     words.iter().map(|w| format!("\"{w}\"")).collect()
 }
 
-/// A string entry that must be one of `words`; returns its index in `words`.
-fn choice(
+/// A key whose value is one of the declared rows of `table/config.rs`.
+trait Choice: Copy + 'static {
+    const KEY: ChoiceKey;
+    const DEFAULT: Option<Self>;
+    fn from_word(word: &str) -> Option<Self>;
+}
+
+macro_rules! choice_keys {
+    ($($t:ident),*) => {$(
+        impl Choice for $t {
+            const KEY: ChoiceKey = $t::KEY;
+            const DEFAULT: Option<$t> = $t::DEFAULT;
+            fn from_word(word: &str) -> Option<$t> {
+                $t::from_word(word)
+            }
+        }
+    )*};
+}
+choice_keys!(Law, Motion, Drive, Lateral, Support, Normal);
+
+/// A string entry that must be one of the words of `T`'s rows (`key_span` is where an error
+/// points).
+fn word<T: Choice>(
     ctx: &Ctx,
-    key: &str,
     key_span: &Range<usize>,
     v: &Spanned<Value>,
-    words: &[&str],
-    rule: &str,
-) -> Result<usize, SceneError> {
-    let found = v
-        .get_ref()
-        .as_str()
-        .and_then(|s| words.iter().position(|w| *w == s));
-    found.ok_or_else(|| {
+) -> Result<T, SceneError> {
+    let key = T::KEY;
+    v.get_ref().as_str().and_then(T::from_word).ok_or_else(|| {
         let rule = if v.get_ref().is_str() {
-            rule.to_string()
+            key.refusal.to_string()
         } else {
-            format!("must be a string ({rule})")
+            format!("must be a string ({})", key.refusal)
         };
-        ctx.err(Some(key_span), key, Some(ctx.shown(v)), rule, quoted(words))
+        ctx.err(
+            Some(key_span),
+            key.name,
+            Some(ctx.shown(v)),
+            rule,
+            quoted(key.words),
+        )
     })
 }
 
@@ -394,339 +377,287 @@ pub fn is_c_identifier(s: &str) -> bool {
     chars.all(|c| c.is_ascii_alphanumeric() || c == '_') && !KEYWORDS.contains(&s)
 }
 
-impl Scene {
-    /// Reads a scene from TOML text; `origin` (the file name) appears in error messages.
-    pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
-        let ctx = Ctx { text, origin };
-        let top: BTreeMap<Spanned<String>, Spanned<Value>> =
-            toml::from_str(text).map_err(|e| ctx.toml_error(e))?;
+/// A scene's top-level table, read once, with the context its errors point into.
+struct Reader<'a> {
+    ctx: Ctx<'a>,
+    top: BTreeMap<Spanned<String>, Spanned<Value>>,
+}
 
-        // Unknown keys, in file order so that the first one written is the one reported.
-        let mut entries: Vec<(&Spanned<String>, &Spanned<Value>)> = top.iter().collect();
+impl<'a> Reader<'a> {
+    /// The first reading: TOML syntax, then every key known.
+    fn new(text: &'a str, origin: &'a str) -> Result<Reader<'a>, SceneError> {
+        let ctx = Ctx { text, origin };
+        let top = toml::from_str(text).map_err(|e| ctx.toml_error(e))?;
+        let r = Reader { ctx, top };
+        r.unknown_keys()?;
+        Ok(r)
+    }
+
+    /// Unknown keys, in file order so that the first one written is the one reported.
+    fn unknown_keys(&self) -> Result<(), SceneError> {
+        let mut entries: Vec<_> = self.top.iter().collect();
         entries.sort_by_key(|(k, _)| k.span().start);
-        for (k, v) in &entries {
-            if !KEYS.contains(&k.get_ref().as_str()) {
-                return Err(ctx.err(
-                    Some(&k.span()),
-                    k.get_ref().as_str(),
-                    Some(ctx.shown(v)),
-                    "unknown key",
-                    KEYS.iter().map(|s| s.to_string()).collect(),
-                ));
-            }
+        match entries
+            .into_iter()
+            .find(|(k, _)| !KEYS.iter().any(|key| key.name == k.get_ref().as_str()))
+        {
+            None => Ok(()),
+            Some((k, v)) => Err(self.ctx.err(
+                Some(&k.span()),
+                k.get_ref().as_str(),
+                Some(self.ctx.shown(v)),
+                "unknown key",
+                KEYS.iter().map(|key| key.name.to_string()).collect(),
+            )),
         }
-        let get = |key: &str| top.get_key_value(key).map(|(k, v)| (k.span(), v.clone()));
-        let missing = |key: &str, rule: &str, valid: Vec<String>| SceneError {
-            file: origin.to_string(),
+    }
+
+    /// The key's place and its value.
+    fn get(&self, key: &str) -> Option<(Range<usize>, Spanned<Value>)> {
+        self.top
+            .get_key_value(key)
+            .map(|(k, v)| (k.span(), v.clone()))
+    }
+
+    /// A required key left out (the error has no line).
+    fn missing(&self, key: &str, rule: String, valid: Vec<String>) -> SceneError {
+        SceneError {
+            file: self.ctx.origin.to_string(),
             line: None,
             key: key.to_string(),
             value: None,
-            rule: rule.to_string(),
+            rule,
             valid,
-        };
+        }
+    }
 
-        // model_identifier
-        let model_identifier = match get("model_identifier") {
-            None => {
-                return Err(missing(
-                    "model_identifier",
-                    "missing (required: the FMU's model identifier, a C identifier)",
-                    vec![],
-                ))
-            }
-            Some((ks, v)) => match v.get_ref().as_str() {
-                Some(s) if s.len() > MAX_IDENTIFIER => {
-                    return Err(ctx.err(
-                        Some(&ks),
-                        "model_identifier",
-                        Some(ctx.shown(&v)),
-                        format!("{} characters: at most {MAX_IDENTIFIER} (it names the FMU file and its library)", s.len()),
-                        vec![],
-                    ))
-                }
-                Some(s) if is_c_identifier(s) => s.to_string(),
-                _ => {
-                    return Err(ctx.err(
-                        Some(&ks),
-                        "model_identifier",
-                        Some(ctx.shown(&v)),
-                        "must be a C identifier (a letter or _, then letters, digits or _; not a C keyword)",
-                        vec![],
-                    ))
-                }
-            },
-        };
+    /// An error on the key's entry, showing its value.
+    fn refuse(&self, key: &str, rule: impl Into<String>) -> SceneError {
+        let (ks, v) = self.get(key).expect("refusing a key that is present");
+        self.ctx
+            .err(Some(&ks), key, Some(self.ctx.shown(&v)), rule, vec![])
+    }
 
-        // law, motion, drive
-        let law = match get("law") {
-            None => {
-                return Err(missing(
-                    "law",
-                    "missing (required: the friction law)",
-                    quoted(&LAWS),
-                ))
-            }
-            Some((ks, v)) => [Law::Dahl, Law::Dupont, Law::LuGre]
-                [choice(&ctx, "law", &ks, &v, &LAWS, "not a friction law")?],
+    fn model_identifier(&self) -> Result<String, SceneError> {
+        let key = "model_identifier";
+        let Some((_, v)) = self.get(key) else {
+            let rule = "missing (required: the FMU's model identifier, a C identifier)";
+            return Err(self.missing(key, rule.into(), vec![]));
         };
-        let motion = match get("motion") {
-            None => {
-                return Err(missing(
-                    "motion",
-                    "missing (required: the kinematics of the contact)",
-                    quoted(&MOTIONS),
-                ))
-            }
-            Some((ks, v)) => [Motion::Longitudinal, Motion::Planar]
-                [choice(&ctx, "motion", &ks, &v, &MOTIONS, "not a motion")?],
-        };
-        let drive = match get("drive") {
-            None => Drive::Force,
-            Some((ks, v)) => [Drive::Force, Drive::Velocity, Drive::Spring]
-                [choice(&ctx, "drive", &ks, &v, &DRIVES, "not a drive")?],
-        };
-        let lateral = match get("lateral") {
-            None => Lateral::Guided,
-            Some((ks, v)) => {
-                let l = [Lateral::Free, Lateral::Guided]
-                    [choice(&ctx, "lateral", &ks, &v, &LATERALS, "not a lateral motion")?];
-                if motion != Motion::Planar || drive != Drive::Velocity {
-                    return Err(ctx.err(
-                        Some(&ks),
-                        "lateral",
-                        Some(ctx.shown(&v)),
-                        format!(
-                            "only a planar velocity drive has a lateral choice (this scene is {}, {} drive); remove the key",
-                            motion_name(motion),
-                            drive_name(drive)
-                        ),
-                        vec![],
-                    ));
-                }
-                l
-            }
-        };
+        match v.get_ref().as_str() {
+            Some(s) if s.len() > MAX_IDENTIFIER => Err(self.refuse(
+                key,
+                format!(
+                    "{} characters: at most {MAX_IDENTIFIER} (it names the FMU file and its library)",
+                    s.len()
+                ),
+            )),
+            Some(s) if is_c_identifier(s) => Ok(s.to_string()),
+            _ => Err(self.refuse(
+                key,
+                "must be a C identifier (a letter or _, then letters, digits or _; not a C keyword)",
+            )),
+        }
+    }
 
-        // The entries whose elements need their own line. The first reading proved the file is
-        // TOML; check the container types before the typed second reading.
+    /// A choice key: its value, or its default, or the error of a required key left out.
+    fn choice<T: Choice>(&self) -> Result<T, SceneError> {
+        let key = T::KEY;
+        match self.get(key.name) {
+            Some((ks, v)) => word::<T>(&self.ctx, &ks, &v),
+            None => T::DEFAULT.ok_or_else(|| {
+                let what = key.missing.unwrap_or(key.meaning);
+                let rule = format!("missing (required: {what})");
+                self.missing(key.name, rule, quoted(key.words))
+            }),
+        }
+    }
+
+    /// `lateral`, which only a planar velocity drive may have.
+    fn lateral(&self, motion: Motion, drive: Drive) -> Result<Lateral, SceneError> {
+        let lateral = self.choice::<Lateral>()?;
+        let planar_velocity = Config {
+            motion,
+            drive,
+            ..Config::default()
+        }
+        .has_lateral_choice();
+        if self.get(Lateral::KEY.name).is_some() && !planar_velocity {
+            return Err(self.refuse(
+                Lateral::KEY.name,
+                format!(
+                    "only a planar velocity drive has a lateral choice (this scene is {}, {} drive); remove the key",
+                    motion.word(),
+                    drive.word()
+                ),
+            ));
+        }
+        Ok(lateral)
+    }
+
+    /// The second, typed reading of the entries whose elements need their own line. The first
+    /// reading proved the file is TOML; check the container types before.
+    fn detail(&self) -> Result<Detail, SceneError> {
         for (key, is_ok, what) in [
             (
-                "support",
+                Support::KEY.name,
                 Value::is_array as fn(&Value) -> bool,
                 "an array of strings",
             ),
             ("outputs", Value::is_array, "an array of strings"),
             ("start", Value::is_table, "a table"),
         ] {
-            if let Some((ks, v)) = get(key) {
+            if let Some((_, v)) = self.get(key) {
                 if !is_ok(v.get_ref()) {
-                    return Err(ctx.err(
-                        Some(&ks),
-                        key,
-                        Some(ctx.shown(&v)),
-                        format!("must be {what}"),
-                        vec![],
-                    ));
+                    return Err(self.refuse(key, format!("must be {what}")));
                 }
             }
         }
-        let detail: Detail = toml::from_str(text).map_err(|e| ctx.toml_error(e))?;
+        toml::from_str(self.ctx.text).map_err(|e| self.ctx.toml_error(e))
+    }
 
-        // support
-        let (support_span, support) = match (get("support"), detail.support) {
+    /// `support`: a non-empty array of distinct support motions.
+    fn support(&self, list: Option<Vec<Spanned<Value>>>) -> Result<Vec<Support>, SceneError> {
+        let key = Support::KEY;
+        let (span, list) = match (self.get(key.name), list) {
             (Some((ks, _)), Some(list)) => (ks, list),
             _ => {
-                return Err(missing(
-                    "support",
-                    "missing (required: the support motion, a non-empty array)",
-                    quoted(&SUPPORTS),
-                ))
+                let rule = format!("missing (required: {})", key.missing.unwrap_or_default());
+                return Err(self.missing(key.name, rule, quoted(key.words)));
             }
         };
-        if support.is_empty() {
-            return Err(ctx.err(
-                Some(&support_span),
-                "support",
+        if list.is_empty() {
+            return Err(self.ctx.err(
+                Some(&span),
+                key.name,
                 Some("[]".into()),
                 "must name at least one support motion",
-                quoted(&SUPPORTS),
+                quoted(key.words),
             ));
         }
-        let (mut harmonic, mut input_support) = (false, false);
-        for item in &support {
-            let k = choice(
-                &ctx,
-                "support",
-                &item.span(),
-                item,
-                &SUPPORTS,
-                "not a support motion",
-            )?;
-            let flag = if k == 0 {
-                &mut harmonic
-            } else {
-                &mut input_support
-            };
-            if *flag {
-                return Err(ctx.err(
+        let mut chosen = vec![];
+        for item in &list {
+            let s = word::<Support>(&self.ctx, &item.span(), item)?;
+            if chosen.contains(&s) {
+                return Err(self.ctx.err(
                     Some(&item.span()),
-                    "support",
-                    Some(ctx.shown(item)),
+                    key.name,
+                    Some(self.ctx.shown(item)),
                     "listed twice",
-                    quoted(&SUPPORTS),
+                    quoted(key.words),
                 ));
             }
-            *flag = true;
+            chosen.push(s);
         }
+        Ok(chosen)
+    }
 
-        let normal_input = match get("normal") {
-            None => false,
-            Some((ks, v)) => {
-                choice(
-                    &ctx,
-                    "normal",
-                    &ks,
-                    &v,
-                    &NORMALS,
-                    "not a kind of normal force",
-                )? == 1
-            }
-        };
-        let config = Config {
-            law,
-            motion,
-            drive,
-            lateral,
-            harmonic,
-            input_support,
-            normal_input,
-        };
-        let what = format!(
-            "{} {} scene with {} drive",
-            law_name(law),
-            motion_name(motion),
-            drive_name(drive)
-        );
-
-        // outputs
+    /// `outputs`: a non-empty array of distinct outputs the configuration has; every one when
+    /// the key is left out.
+    fn outputs(
+        &self,
+        list: Option<Vec<Spanned<Value>>>,
+        config: &Config,
+    ) -> Result<Vec<OutputId>, SceneError> {
         let possible: Vec<OutputId> = OutputId::ALL
             .into_iter()
-            .filter(|o| o.present(&config))
+            .filter(|o| o.present(config))
             .collect();
+        let Some(list) = list else {
+            return Ok(possible);
+        };
         let possible_names = || -> Vec<String> {
             possible
                 .iter()
                 .map(|o| format!("\"{}\"", o.name()))
                 .collect()
         };
-        let outputs = match detail.outputs {
-            None => possible.clone(),
-            Some(list) => {
-                if list.is_empty() {
-                    let span = get("outputs").map(|(ks, _)| ks);
-                    return Err(ctx.err(
-                        span.as_ref(),
-                        "outputs",
-                        Some("[]".into()),
-                        "must name at least one output (leave the key out for all of them)",
-                        possible_names(),
-                    ));
-                }
-                let mut chosen: Vec<OutputId> = vec![];
-                for item in &list {
-                    let span = item.span();
-                    let shown = Some(ctx.shown(item));
-                    let Some(name) = item.get_ref().as_str() else {
-                        return Err(ctx.err(
-                            Some(&span),
-                            "outputs",
-                            shown,
-                            "must be a string (an output name)",
-                            possible_names(),
-                        ));
-                    };
-                    let o = match possible.iter().find(|o| o.name() == name) {
-                        Some(&o) => o,
-                        None => {
-                            let rule = output_refusal(name, &config, &what);
-                            return Err(ctx.err(
-                                Some(&span),
-                                "outputs",
-                                shown,
-                                rule,
-                                possible_names(),
-                            ));
-                        }
-                    };
-                    if chosen.contains(&o) {
-                        return Err(ctx.err(
-                            Some(&span),
-                            "outputs",
-                            shown,
-                            "listed twice",
-                            possible_names(),
-                        ));
-                    }
-                    chosen.push(o);
-                }
-                OutputId::ALL
-                    .into_iter()
-                    .filter(|o| chosen.contains(o))
-                    .collect()
+        if list.is_empty() {
+            let span = self.get("outputs").map(|(ks, _)| ks);
+            return Err(self.ctx.err(
+                span.as_ref(),
+                "outputs",
+                Some("[]".into()),
+                "must name at least one output (leave the key out for all of them)",
+                possible_names(),
+            ));
+        }
+        let mut chosen: Vec<OutputId> = vec![];
+        for item in &list {
+            let refuse = |rule: String| {
+                let shown = Some(self.ctx.shown(item));
+                let span = item.span();
+                self.ctx
+                    .err(Some(&span), "outputs", shown, rule, possible_names())
+            };
+            let Some(name) = item.get_ref().as_str() else {
+                return Err(refuse("must be a string (an output name)".into()));
+            };
+            let Some(&o) = possible.iter().find(|o| o.name() == name) else {
+                return Err(refuse(output_refusal(name, config)));
+            };
+            if chosen.contains(&o) {
+                return Err(refuse("listed twice".into()));
             }
-        };
+            chosen.push(o);
+        }
+        Ok(OutputId::ALL
+            .into_iter()
+            .filter(|o| chosen.contains(o))
+            .collect())
+    }
 
-        // [start]
+    /// `[start]`: start values of the parameters and inputs this scene can set, each checked
+    /// against its rule; then the reference load and, for a law with a static force, its
+    /// consistency with it.
+    fn start(
+        &self,
+        table: Option<BTreeMap<Spanned<String>, Spanned<Value>>>,
+        config: &Config,
+        outputs: &[OutputId],
+    ) -> Result<(Params, Inputs), SceneError> {
         let mut start = Params::default();
         let mut inputs = default_inputs();
         let settable: Vec<&'static Variable> = VARIABLES
             .iter()
-            .filter(|v| v.present(&config, &outputs) && v.settable(&config))
+            .filter(|v| v.present(config, outputs) && v.settable(config))
             .collect();
         let settable_names = || settable.iter().map(|v| v.name().to_string()).collect();
-        let mut start_entries: Vec<_> = detail.start.unwrap_or_default().into_iter().collect();
-        start_entries.sort_by_key(|(k, _)| k.span().start);
-        for (k, v) in &start_entries {
+        let mut entries: Vec<_> = table.unwrap_or_default().into_iter().collect();
+        entries.sort_by_key(|(k, _)| k.span().start);
+        for (k, v) in &entries {
             let name = k.get_ref().as_str();
             let key = format!("start.{name}");
             let span = k.span();
-            let shown = Some(ctx.shown(v));
-            let Some(var) = VARIABLES.iter().find(|var| var.name() == name) else {
-                return Err(ctx.err(
+            let refuse = |rule: String, valid: Vec<String>| {
+                self.ctx.err(
                     Some(&span),
-                    key,
-                    shown,
-                    "not a parameter or input of any scene",
-                    settable_names(),
-                ));
+                    key.clone(),
+                    Some(self.ctx.shown(v)),
+                    rule,
+                    valid,
+                )
+            };
+            let Some(var) = VARIABLES.iter().find(|var| var.name() == name) else {
+                let rule = "not a parameter or input of any scene";
+                return Err(refuse(rule.into(), settable_names()));
             };
             if !settable.iter().any(|s| s.vr == var.vr) {
-                let rule = start_refusal(var, &config, &what);
-                return Err(ctx.err(Some(&span), key, shown, rule, settable_names()));
+                return Err(refuse(start_refusal(var, config), settable_names()));
             }
             let value = match v.get_ref() {
                 Value::Float(x) => *x,
                 Value::Integer(i) => *i as f64,
-                _ => return Err(ctx.err(Some(&span), key, shown, "must be a number", vec![])),
+                _ => return Err(refuse("must be a number".into(), vec![])),
             };
             match var.kind {
-                VarKind::Param(p) => {
-                    p.check_in(value, &config)
-                        .and_then(|_| p.set(&mut start, value))
-                        .map_err(|e| {
-                            ctx.err(
-                                Some(&span),
-                                key.clone(),
-                                shown.clone(),
-                                e.rule_text(),
-                                vec![],
-                            )
-                        })?;
-                }
+                VarKind::Param(p) => p
+                    .check_in(value, config)
+                    .and_then(|_| p.set(&mut start, value))
+                    .map_err(|e| refuse(e.rule_text(), vec![]))?,
                 VarKind::Input(i) => {
                     if !i.rule().holds(value) {
-                        let rule = i.rule().text(value, i.unit());
-                        return Err(ctx.err(Some(&span), key, shown, rule, vec![]));
+                        return Err(refuse(i.rule().text(value, i.unit()), vec![]));
                     }
                     *i.slot(&mut inputs) = value;
                 }
@@ -736,52 +667,73 @@ impl Scene {
 
         // An input F_N starts at the value its variable states.
         inputs.f_n = start.f_n;
-        // The scene's load is the one at which LuGre's F_S and zeta_t are given; a static force
-        // below the Coulomb force there inverts the law.
+        // The scene's load is the one at which a static force (LuGre's F_S and zeta_t) is
+        // given; a static force below the Coulomb force there inverts the law.
         start.set_reference();
-        if config.law == Law::LuGre {
+        if config.law.has_static_force() {
             if let Some(why) = start.static_force_inverted() {
-                let at = start_entries
+                let at = entries
                     .iter()
                     .find(|(k, _)| ["F_S", "F_N", "mu"].contains(&k.get_ref().as_str()))
                     .map(|(k, _)| k.span());
                 let shown = Some(crate::table::number(start.f_s));
-                return Err(ctx.err(at.as_ref(), "start.F_S", shown, why, vec![]));
+                return Err(self.ctx.err(at.as_ref(), "start.F_S", shown, why, vec![]));
             }
         }
+        Ok((start, inputs))
+    }
 
-        // description
-        let description = match get("description") {
-            None => summary(&config),
-            Some((ks, v)) => match v.get_ref().as_str() {
-                Some(s) => {
-                    // XML 1.0 cannot hold these, not even escaped.
-                    if let Some(c) = s.chars().find(|&c| {
-                        (c < ' ' && !matches!(c, '\t' | '\n' | '\r'))
-                            || matches!(c, '\u{FFFE}' | '\u{FFFF}')
-                    }) {
-                        return Err(ctx.err(
-                            Some(&ks),
-                            "description",
-                            Some(ctx.shown(&v)),
-                            format!("holds the character U+{:04X}, which XML 1.0 cannot hold (only tab, line feed and carriage return below U+0020)", c as u32),
-                            vec![],
-                        ));
-                    }
-                    s.to_string()
-                }
-                None => {
-                    return Err(ctx.err(
-                        Some(&ks),
-                        "description",
-                        Some(ctx.shown(&v)),
-                        "must be a string",
-                        vec![],
-                    ))
-                }
+    /// `description`: free text an XML 1.0 document can hold; the configuration's summary when
+    /// left out.
+    fn description(&self, config: &Config) -> Result<String, SceneError> {
+        let key = "description";
+        let Some((_, v)) = self.get(key) else {
+            return Ok(summary(config));
+        };
+        let Some(s) = v.get_ref().as_str() else {
+            return Err(self.refuse(key, "must be a string"));
+        };
+        // XML 1.0 cannot hold these, not even escaped.
+        match s.chars().find(|&c| {
+            (c < ' ' && !matches!(c, '\t' | '\n' | '\r')) || matches!(c, '\u{FFFE}' | '\u{FFFF}')
+        }) {
+            Some(c) => Err(self.refuse(
+                key,
+                format!("holds the character U+{:04X}, which XML 1.0 cannot hold (only tab, line feed and carriage return below U+0020)", c as u32),
+            )),
+            None => Ok(s.to_string()),
+        }
+    }
+}
+
+impl Scene {
+    /// Reads a scene from TOML text; `origin` (the file name) appears in error messages. The
+    /// keys are checked in the order of [`KEYS`] (but `description`, last): the first error
+    /// found is the one reported.
+    pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let r = Reader::new(text, origin)?;
+        let model_identifier = r.model_identifier()?;
+        let law = r.choice::<Law>()?;
+        let motion = r.choice::<Motion>()?;
+        let drive = r.choice::<Drive>()?;
+        let lateral = r.lateral(motion, drive)?;
+        let detail = r.detail()?;
+        let support = r.support(detail.support)?;
+        let config = Config {
+            law,
+            motion,
+            drive,
+            lateral,
+            harmonic: support.contains(&Support::Harmonic),
+            input_support: support.contains(&Support::Input),
+            normal_input: match r.choice::<Normal>()? {
+                Normal::Parameter => false,
+                Normal::Input => true,
             },
         };
-
+        let outputs = r.outputs(detail.outputs, &config)?;
+        let (start, inputs) = r.start(detail.start, &config, &outputs)?;
+        let description = r.description(&config)?;
         Ok(Scene {
             model_identifier,
             description,
@@ -827,8 +779,19 @@ impl Scene {
     }
 }
 
+/// How an error names the configuration: `dahl longitudinal scene with velocity drive`.
+fn what(c: &Config) -> String {
+    format!(
+        "{} {} scene with {} drive",
+        c.law.word(),
+        c.motion.word(),
+        c.drive.word()
+    )
+}
+
 /// Why an output name is not available in this configuration.
-fn output_refusal(name: &str, c: &Config, what: &str) -> String {
+fn output_refusal(name: &str, c: &Config) -> String {
+    let what = what(c);
     if let Some(i) = InputId::ALL.into_iter().find(|i| i.name() == name) {
         return if i.present(c) {
             format!("{name} is an input of this {what}, not an output")
@@ -850,13 +813,14 @@ fn output_refusal(name: &str, c: &Config, what: &str) -> String {
 }
 
 /// Why a `[start]` key is refused (the variable exists in some scene, not settable in this one).
-fn start_refusal(var: &Variable, c: &Config, what: &str) -> String {
+fn start_refusal(var: &Variable, c: &Config) -> String {
+    let what = what(c);
     let name = var.name();
     match var.kind {
         VarKind::Param(p) if !p.present(c) => {
             format!("{name} is not a parameter of a {what}")
         }
-        VarKind::Input(i) if i.present(c) || (i == InputId::FD && c.drive == Drive::Spring) => {
+        VarKind::Input(i) if i.present(c) || (i == InputId::FD && c.drive.has_spring()) => {
             format!("{name} is an output of this {what}; outputs have no start value")
         }
         VarKind::Input(InputId::VSx | InputId::VSy) if !c.input_support => {

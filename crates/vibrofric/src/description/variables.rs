@@ -1,5 +1,5 @@
 //! The variables as a model description lists them: one row per value reference, made from the
-//! declarations of `src/table/table.rs`, with the causality, variability, `initial`, start
+//! declarations of `table/table.rs`, with the causality, variability, `initial`, start
 //! value and bounds each has in a scene. The generated `modelDescription.xml` and get/set by
 //! value reference both read these rows.
 //!
@@ -13,8 +13,7 @@ use std::sync::LazyLock;
 
 pub use crate::table::Variability;
 use crate::table::{
-    Config, Dependency, Drive, IndicatorId, InputId, Inputs, Known, OutputId, ParamId, Params,
-    StateId,
+    Config, Dependency, IndicatorId, InputId, Inputs, Known, OutputId, ParamId, Params, StateId,
 };
 
 /// What a variable is bound to in the model.
@@ -130,7 +129,7 @@ impl Variable {
     pub fn causality(&self, c: &Config) -> Causality {
         match self.kind {
             VarKind::Param(_) => Causality::Parameter,
-            VarKind::Input(InputId::FD) if c.drive == Drive::Spring => Causality::Output,
+            VarKind::Input(InputId::FD) if c.drive.has_spring() => Causality::Output,
             VarKind::Input(_) => Causality::Input,
             VarKind::Output(_) => Causality::Output,
             VarKind::State(_) | VarKind::Derivative(_) | VarKind::Indicator(_) => Causality::Local,
@@ -160,7 +159,7 @@ impl Variable {
     pub fn present(&self, c: &Config, outputs: &[OutputId]) -> bool {
         match self.kind {
             VarKind::Param(p) => p.present(c),
-            VarKind::Input(InputId::FD) if c.drive == Drive::Spring => {
+            VarKind::Input(InputId::FD) if c.drive.has_spring() => {
                 outputs.contains(&OutputId::FDrive)
             }
             VarKind::Input(i) => i.present(c),
@@ -216,7 +215,7 @@ impl Variable {
     pub fn output(&self, c: &Config) -> Option<OutputId> {
         match self.kind {
             VarKind::Output(o) => Some(o),
-            VarKind::Input(InputId::FD) if c.drive == Drive::Spring => Some(OutputId::FDrive),
+            VarKind::Input(InputId::FD) if c.drive.has_spring() => Some(OutputId::FDrive),
             _ => None,
         }
     }
@@ -320,7 +319,7 @@ mod tests {
         let c = Config {
             law: Law::Dahl,
             motion: crate::table::Motion::Longitudinal,
-            drive: Drive::Velocity,
+            drive: crate::table::Drive::Velocity,
             lateral: crate::table::Lateral::Guided,
             harmonic: true,
             input_support: false,

@@ -19,14 +19,12 @@ use super::simulator::{Path, SimError, Simulator, StepStats};
 use super::state::ContactState;
 use super::time::{boundary_snap, canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{affine_sums, StepMean, Window};
-use crate::physics::{
-    FrictionLaw, Harmonic, InputTrack, ParamId, Params, Relaxation, Vector, NO_FRICTION_LENGTH,
-};
+use crate::physics::{FrictionLaw, Harmonic, InputTrack, Relaxation, Vector, NO_FRICTION_LENGTH};
 use crate::solver::expint::ExpIntegrator;
 use crate::solver::{
     OdeSystem, Quad, Radau5, SolverError, SolverStats, Step, Workspace, MAX_QUAD, MAX_SWITCH,
 };
-use crate::table::{Config, InputId, Inputs, OutputId, Outputs};
+use crate::table::{Config, InputId, Inputs, OutputId, Outputs, ParamId, Params};
 
 /// A contact with its integrator: implements [`Simulator`].
 #[derive(Clone, Debug)]

@@ -5,8 +5,9 @@
 // Jacobian assembly indexes rows and columns of several matrices in lockstep.
 #![allow(clippy::needless_range_loop)]
 
-use crate::physics::{LawJacobian, Params, Vector};
+use crate::physics::{LawJacobian, Vector};
 use crate::solver::MAX_DIM;
+use crate::table::Params;
 
 /// Forces and motions the drive needs at one instant.
 #[derive(Clone, Copy, Debug)]

@@ -10,10 +10,10 @@ use nalgebra::{SMatrix, SVector};
 
 use super::drive::{DriveInputs, DriveKind, Jac};
 use super::exact::Forcing;
-use crate::physics::{FrictionLaw, Harmonic, InputTrack, Params, Vector};
+use crate::physics::{FrictionLaw, Harmonic, InputTrack, Vector};
 use crate::solver::expint::{Relaxing, Sample};
 use crate::solver::{OdeSystem, Quad, MAX_DIM, MAX_SWITCH};
-use crate::table::InputId;
+use crate::table::{InputId, Params};
 
 /// The normal force below which the body has lifted off: the integrator's relative tolerance
 /// of the reference load `f_n_ref` (1 N without one). The friction the contact could still carry is then

@@ -60,8 +60,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             StateId::Sx => Some(Slot::Y(0)),
             StateId::Sy => planar.then_some(Slot::Y(1)),
             StateId::Window => Some(Slot::Window),
-            StateId::Xd => (drive == Drive::Spring).then_some(Slot::Imposed),
-            _ if drive == Drive::Velocity => match id {
+            StateId::Xd => drive.has_spring().then_some(Slot::Imposed),
+            _ if drive.imposes_velocity() => match id {
                 StateId::X => Some(Slot::Imposed),
                 StateId::Y if D::N_BODY == 2 => Some(Slot::Y(d)),
                 StateId::Vy if D::N_BODY == 2 => Some(Slot::Y(d + 1)),
@@ -391,14 +391,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
 mod tests {
     use super::*;
     use crate::model::{build, Lateral, Law, Motion, Simulator};
-    use crate::physics::Params;
+    use crate::table::Params;
     use crate::table::{Config, Known, OutputId};
 
     fn configs() -> Vec<Config> {
         let mut v = vec![];
-        for law in [Law::Dahl, Law::Dupont, Law::LuGre] {
-            for motion in [Motion::Longitudinal, Motion::Planar] {
-                for drive in [Drive::Force, Drive::Velocity, Drive::Spring] {
+        for law in Law::ALL {
+            for motion in Motion::ALL {
+                for drive in Drive::ALL {
                     for lateral in [Lateral::Guided, Lateral::Free] {
                         if lateral == Lateral::Free
                             && (motion == Motion::Longitudinal || drive != Drive::Velocity)

@@ -43,7 +43,8 @@ pub use simulator::{
 pub use state::{ContactState, StepMeanState, WindowState};
 pub use time::{canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
 
-use crate::physics::{Dahl, Dupont, LuGre, ParamId, Params, Planar};
+use crate::physics::{Dahl, Dupont, LuGre, Planar};
+use crate::table::{ParamId, Params};
 use contact::boxed;
 use drive::{Force, Spring, VelocityFree, VelocityGuided};
 
@@ -74,7 +75,7 @@ pub fn build_on(
             id.check_in(id.get(&params), &config)?;
         }
     }
-    if config.law == Law::LuGre {
+    if config.law.has_static_force() {
         if let Some(why) = params.static_force_inverted() {
             return Err(SimError::Inconsistent(why));
         }

@@ -3,9 +3,9 @@
 use super::ode::Ode;
 use super::state::ContactState;
 use super::time::MAX_INPUT_RATE;
-use crate::physics::{ParamError, ParamId, Params};
 use crate::solver::SolverError;
 use crate::table::{number, Config, InputId, Inputs, OutputId, Outputs, StateId};
+use crate::table::{ParamError, ParamId, Params};
 
 /// Why a simulator refused a call. The simulator is unchanged when an error is returned.
 #[derive(Clone, Debug, PartialEq)]

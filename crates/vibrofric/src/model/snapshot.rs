@@ -9,9 +9,9 @@ use super::simulator::SimError;
 use super::state::{ContactState, StepMeanState, WindowState};
 use super::time::{boundary_snap, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{StepMean, Window};
-use crate::physics::{FrictionLaw, Harmonic, Params, Vector};
+use crate::physics::{FrictionLaw, Harmonic, Vector};
 use crate::solver::{Radau5, MAX_QUAD};
-use crate::table::InputId;
+use crate::table::{InputId, Params};
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
     /// The complete state.
@@ -63,7 +63,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             return bad(format!("{name} is {x}: every number must be finite"));
         }
         let mut params = Params::default();
-        for id in crate::physics::ParamId::ALL {
+        for id in crate::table::ParamId::ALL {
             let value = id.get(&s.params);
             id.check_in(value, &self.config)
                 .and_then(|_| id.set(&mut params, value))

@@ -3,9 +3,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::physics::{InputTrack, Params};
+use crate::physics::InputTrack;
 use crate::solver::{MAX_QUAD, MAX_SWITCH};
-use crate::table::{Config, InputId};
+use crate::table::{Config, InputId, Params};
 
 /// Everything a contact needs to continue bit for bit.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

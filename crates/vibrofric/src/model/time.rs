@@ -30,7 +30,7 @@ pub(super) fn boundary_snap(t_local: f64, t_abs: f64, len: f64) -> f64 {
 /// never moves, and then by at most 256 ulps.
 pub(super) const DECIMAL_SNAP: f64 = 256.0 * f64::EPSILON;
 
-/// The communication point an importer meant: a time within [`DECIMAL_SNAP`] of a decimal with
+/// The communication point an importer meant: a time within `DECIMAL_SNAP` of a decimal with
 /// 12 significant digits is taken as that decimal, so that importers that accumulate time
 /// differently step the FMU to bit-identical instants and get bit-identical results.
 pub fn canonical_time(t: f64) -> f64 {

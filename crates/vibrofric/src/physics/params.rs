@@ -1,7 +1,8 @@
 //! Quantities the physics derives from the parameters. The parameters themselves, with their
-//! units, defaults and accepted ranges, are declared in `src/table/table.rs`.
+//! units, defaults and accepted ranges, are declared in `table/table.rs` and named from there
+//! (`crate::table::Params`, `ParamId`).
 
-pub use crate::table::{ParamError, ParamId, Params, Rule, Sign};
+use crate::table::Params;
 
 impl Params {
     /// Coulomb force `F_C = mu·F_N`.

@@ -92,7 +92,7 @@ const ROUNDING: f64 = 50.0 * f64::EPSILON;
 
 /// `∫f` over `[a, b]` to the absolute error `tol`, bisecting panels whose estimate exceeds
 /// their share of it, down to the rounding of the panel's sum (a tolerance below it cannot be
-/// met and would only multiply panels), [`MAX_DEPTH`] halvings or [`MAX_PANELS`] panels, where
+/// met and would only multiply panels), `MAX_DEPTH` halvings or `MAX_PANELS` panels, where
 /// the estimate is returned as it is.
 /// Like every quadrature that samples, it cannot see a feature that falls between all nodes of
 /// the first panel: the caller chooses `[a, b]` on the scale of the integrand.

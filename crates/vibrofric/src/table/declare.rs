@@ -281,3 +281,148 @@ macro_rules! outputs {
         }
     };
 }
+
+/// Declares a scene's choice key and its values as rows: the enum (one variant per value), and
+/// for each value its spelling in a scene file and its name in prose; for the key its name, what
+/// the reference says it requires, what it means, and the rule a value outside the set breaks.
+/// The scene reader, the scene reference (`docs/scenes.md`) and the documentation pages read
+/// these rows; nothing else spells a value.
+macro_rules! choices {
+    (
+        $(#[doc = $doc:literal])*
+        $name:ident {
+            key: $key:literal,
+            requirement: $requirement:literal,
+            $(missing: $missing:literal,)?
+            $(default: $default:ident,)?
+            meaning: $meaning:literal,
+            refusal: $refusal:literal,
+            values: {$(
+                $(#[doc = $vdoc:literal])*
+                $v:ident => $word:literal, $title:literal;
+            )*}
+        }
+    ) => {
+        $(#[doc = $doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+        pub enum $name {
+            $( $(#[doc = $vdoc])* $v, )*
+        }
+
+        impl $name {
+            /// Every value, in declaration order (the order the reference lists them).
+            pub const ALL: [$name; count!($($v)*)] = [$($name::$v),*];
+
+            /// The scene key and its rows.
+            pub const KEY: ChoiceKey = ChoiceKey {
+                name: $key,
+                requirement: $requirement,
+                missing: choices!(@option $($missing)?),
+                meaning: $meaning,
+                refusal: $refusal,
+                words: &[$($word),*],
+            };
+
+            /// The value when the scene leaves the key out (`None`: the key is required).
+            pub const DEFAULT: Option<$name> = choices!(@option $($name::$default)?);
+
+            /// The value as a scene writes it.
+            pub const fn word(self) -> &'static str {
+                match self { $( $name::$v => $word, )* }
+            }
+
+            /// The value's name in prose (summaries, documentation pages).
+            pub const fn title(self) -> &'static str {
+                match self { $( $name::$v => $title, )* }
+            }
+
+            /// The value a scene's word names.
+            pub fn from_word(word: &str) -> Option<$name> {
+                $name::ALL.into_iter().find(|v| v.word() == word)
+            }
+        }
+    };
+    (@option) => { None };
+    (@option $x:expr) => { Some($x) };
+}
+
+/// Declares the continuous states of Model Exchange, one row per state: the id enum
+/// [`StateId`](super::StateId) and every fact of a state and of its derivative as a method.
+/// Value references follow the declaration order (301.., derivatives 401..).
+macro_rules! states {
+    ($(
+        $(#[doc = $doc:literal])*
+        $id:ident {
+            name: $name:literal,
+            unit: $unit:literal,
+            display: $display:expr,
+            description: $description:literal,
+            derivative_unit: $dunit:literal,
+            derivative_description: $ddescription:literal,
+            present: $present:expr,
+            derivative_knowns: $knowns:expr $(,)?
+        }
+    )*) => {
+        /// One continuous state of Model Exchange.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum StateId {
+            $( #[doc = $description] $(#[doc = $doc])* $id, )*
+        }
+
+        impl StateId {
+            /// Every state, in declaration (value reference) order.
+            pub const ALL: [StateId; count!($($id)*)] = [$(StateId::$id),*];
+            pub const COUNT: usize = StateId::ALL.len();
+
+            pub fn name(self) -> &'static str {
+                match self { $( StateId::$id => $name, )* }
+            }
+
+            /// The derivative's name, `der(<state>)`.
+            pub fn derivative_name(self) -> &'static str {
+                match self { $( StateId::$id => concat!("der(", $name, ")"), )* }
+            }
+
+            pub fn unit(self) -> &'static str {
+                match self { $( StateId::$id => $unit, )* }
+            }
+
+            pub fn derivative_unit(self) -> &'static str {
+                match self { $( StateId::$id => $dunit, )* }
+            }
+
+            pub fn display_unit(self) -> Option<&'static str> {
+                match self { $( StateId::$id => $display, )* }
+            }
+
+            pub fn description(self) -> &'static str {
+                match self { $( StateId::$id => $description, )* }
+            }
+
+            pub fn derivative_description(self) -> &'static str {
+                match self { $( StateId::$id => $ddescription, )* }
+            }
+
+            /// True when a scene with this configuration and these outputs has the state.
+            pub fn present(self, c: &Config, outputs: &[OutputId]) -> bool {
+                match self {
+                    $( StateId::$id => {
+                        let present: fn(&Config, &[OutputId]) -> bool = $present;
+                        present(c, outputs)
+                    } )*
+                }
+            }
+
+            /// The knowns the derivative depends on, before those the scene lacks are dropped
+            /// ([`StateId::derivative_dependencies`]).
+            fn derivative_knowns(self, c: &Config) -> Vec<Known> {
+                match self {
+                    $( StateId::$id => {
+                        let knowns: fn(&Config) -> Vec<Known> = $knowns;
+                        knowns(c)
+                    } )*
+                }
+            }
+        }
+    };
+}

@@ -20,7 +20,7 @@
 //! the force (a lower load makes the contact slip back onto its envelope; LuGre's `g`), the
 //! deformation, the dissipation and the reduction (through `F_C`).
 
-use super::{Config, Drive, InputId, Law, ParamId};
+use super::{Config, InputId, ParamId};
 
 /// The kinds of output, by what they depend on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -65,7 +65,7 @@ impl Dependency {
 /// The inputs that set the relative velocity `v_r` (beside the harmonic source).
 fn velocity_inputs(c: &Config) -> Vec<InputId> {
     let mut d = vec![];
-    if c.drive == Drive::Velocity {
+    if c.drive.imposes_velocity() {
         d.push(InputId::VD);
     }
     if c.input_support {
@@ -80,11 +80,11 @@ fn velocity_inputs(c: &Config) -> Vec<InputId> {
 impl Depends {
     /// The inputs whose current value the output depends on directly, in this configuration.
     pub fn direct(self, c: &Config) -> Vec<InputId> {
-        let lugre = c.law == Law::LuGre;
+        let rate = c.law.force_has_rate();
         let mut deps = match self {
-            Depends::Force | Depends::Mean | Depends::Reduction if lugre => velocity_inputs(c),
+            Depends::Force | Depends::Mean | Depends::Reduction if rate => velocity_inputs(c),
             Depends::Dissipation => velocity_inputs(c),
-            Depends::BodyVelocity if c.drive == Drive::Velocity => vec![InputId::VD],
+            Depends::BodyVelocity if c.drive.imposes_velocity() => vec![InputId::VD],
             Depends::DriveForce => vec![InputId::VD],
             _ => vec![],
         };
@@ -101,7 +101,7 @@ impl Depends {
     /// The parameters and inputs the output depends on at initialization.
     pub fn initial(self, c: &Config) -> Vec<Dependency> {
         let friction = || {
-            if c.law != Law::LuGre {
+            if !c.law.force_has_rate() {
                 return vec![];
             }
             let mut d: Vec<Dependency> = [
@@ -136,7 +136,7 @@ impl Depends {
                 }
                 d
             }
-            Depends::BodyVelocity if c.drive == Drive::Velocity => {
+            Depends::BodyVelocity if c.drive.imposes_velocity() => {
                 vec![Dependency::Input(InputId::VD)]
             }
             Depends::DriveForce => vec![

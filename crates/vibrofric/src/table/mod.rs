@@ -18,7 +18,7 @@ mod states;
 #[allow(clippy::module_inception)]
 mod table;
 
-pub use config::{Config, Drive, Lateral, Law, Motion};
+pub use config::{ChoiceKey, Config, Drive, Lateral, Law, Motion, Normal, Support};
 pub use dependencies::{Dependency, Depends};
 pub use rule::{number, ParamError, Rule, Sign};
 pub use states::{force_knowns, rate_knowns, velocity_knowns, IndicatorId, Known, StateId};

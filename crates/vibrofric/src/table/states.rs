@@ -15,20 +15,96 @@
 //! | `body.v_x`, `body.v_y` | `(F_d·e_x − F_F)/m` |
 //! | `drive.x_d` | `v_d` |
 //! | `window.F_int` | `F_Fx` |
+//!
+//! Each state is one row of the `states!` declaration below (`declare.rs` expands it).
 
-use super::{Config, Drive, InputId, Law, OutputId};
+use super::{Config, Drive, InputId, OutputId};
 
-/// One continuous state of Model Exchange.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum StateId {
-    Sx,
-    Sy,
-    X,
-    Y,
-    Vx,
-    Vy,
-    Xd,
-    Window,
+states! {
+    Sx {
+        name: "contact.s_x", unit: "m", display: Some("um"),
+        description: "State: contact deformation along x",
+        derivative_unit: "m/s",
+        derivative_description: "Deformation rate along x (the friction law)",
+        present: |_, _| true,
+        derivative_knowns: |c| rate_knowns(c, 0),
+    }
+    Sy {
+        name: "contact.s_y", unit: "m", display: Some("um"),
+        description: "State: contact deformation along y",
+        derivative_unit: "m/s",
+        derivative_description: "Deformation rate along y (the friction law)",
+        present: |c, _| c.planar(),
+        derivative_knowns: |c| rate_knowns(c, 1),
+    }
+    X {
+        name: "body.x", unit: "m", display: Some("um"),
+        description: "State: body position along x (under velocity drive the integral of v_d)",
+        derivative_unit: "m/s",
+        derivative_description: "Body velocity along x",
+        present: |_, _| true,
+        derivative_knowns: |c| {
+            if c.drive.imposes_velocity() {
+                vec![Known::Input(InputId::VD)]
+            } else {
+                vec![Known::State(StateId::Vx)]
+            }
+        },
+    }
+    Y {
+        name: "body.y", unit: "m", display: Some("um"),
+        description: "State: body position along y",
+        derivative_unit: "m/s",
+        derivative_description: "Body velocity along y",
+        present: |c, _| c.lateral_free(),
+        derivative_knowns: |_| vec![Known::State(StateId::Vy)],
+    }
+    Vx {
+        name: "body.v_x", unit: "m/s", display: Some("mm/s"),
+        description: "State: body velocity along x",
+        derivative_unit: "m/s2",
+        derivative_description: "Body acceleration along x",
+        present: |c, _| !c.drive.imposes_velocity(),
+        derivative_knowns: |c| {
+            let mut d = force_knowns(c, 0);
+            match c.drive {
+                Drive::Force => d.push(Known::Input(InputId::FD)),
+                Drive::Velocity | Drive::Spring => d.extend([
+                    Known::State(StateId::X),
+                    Known::State(StateId::Vx),
+                    Known::State(StateId::Xd),
+                    Known::Input(InputId::VD),
+                ]),
+            }
+            d
+        },
+    }
+    Vy {
+        name: "body.v_y", unit: "m/s", display: Some("mm/s"),
+        description: "State: body velocity along y",
+        derivative_unit: "m/s2",
+        derivative_description: "Body acceleration along y",
+        present: |c, _| c.lateral_free(),
+        derivative_knowns: |c| force_knowns(c, 1),
+    }
+    Xd {
+        name: "drive.x_d", unit: "m", display: Some("um"),
+        description: "State: position of the spring's far end (the integral of v_d)",
+        derivative_unit: "m/s",
+        derivative_description: "Velocity of the spring's far end (v_d)",
+        present: |c, _| c.drive.has_spring(),
+        derivative_knowns: |_| vec![Known::Input(InputId::VD)],
+    }
+    Window {
+        name: "window.F_int", unit: "N.s", display: None,
+        description: "State: integral of F_Fx over the averaging window in progress (F_mean = F_int/window at its end)",
+        derivative_unit: "N",
+        derivative_description: "F_Fx, the integrand of the window's mean",
+        present: |_, outputs| {
+            outputs.contains(&OutputId::FMean) || outputs.contains(&OutputId::Reduction)
+        },
+        derivative_knowns: |c| force_knowns(c, 0),
+    }
 }
 
 /// What a derivative or an output depends on among the knowns of Model Exchange.
@@ -39,47 +115,8 @@ pub enum Known {
 }
 
 impl StateId {
-    pub const ALL: [StateId; 8] = [
-        StateId::Sx,
-        StateId::Sy,
-        StateId::X,
-        StateId::Y,
-        StateId::Vx,
-        StateId::Vy,
-        StateId::Xd,
-        StateId::Window,
-    ];
-    pub const COUNT: usize = StateId::ALL.len();
-
     pub fn index(self) -> usize {
         self as usize
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            StateId::Sx => "contact.s_x",
-            StateId::Sy => "contact.s_y",
-            StateId::X => "body.x",
-            StateId::Y => "body.y",
-            StateId::Vx => "body.v_x",
-            StateId::Vy => "body.v_y",
-            StateId::Xd => "drive.x_d",
-            StateId::Window => "window.F_int",
-        }
-    }
-
-    /// The derivative's name, `der(<state>)`.
-    pub fn derivative_name(self) -> &'static str {
-        match self {
-            StateId::Sx => "der(contact.s_x)",
-            StateId::Sy => "der(contact.s_y)",
-            StateId::X => "der(body.x)",
-            StateId::Y => "der(body.y)",
-            StateId::Vx => "der(body.v_x)",
-            StateId::Vy => "der(body.v_y)",
-            StateId::Xd => "der(drive.x_d)",
-            StateId::Window => "der(window.F_int)",
-        }
     }
 
     /// Value reference of the state (301–308) and of its derivative (401–408).
@@ -90,101 +127,11 @@ impl StateId {
         401 + self as u32
     }
 
-    pub fn unit(self) -> &'static str {
-        match self {
-            StateId::Sx | StateId::Sy | StateId::X | StateId::Y | StateId::Xd => "m",
-            StateId::Vx | StateId::Vy => "m/s",
-            StateId::Window => "N.s",
-        }
-    }
-
-    pub fn derivative_unit(self) -> &'static str {
-        match self {
-            StateId::Sx | StateId::Sy | StateId::X | StateId::Y | StateId::Xd => "m/s",
-            StateId::Vx | StateId::Vy => "m/s2",
-            StateId::Window => "N",
-        }
-    }
-
-    pub fn display_unit(self) -> Option<&'static str> {
-        match self {
-            StateId::Vx | StateId::Vy => Some("mm/s"),
-            StateId::Window => None,
-            _ => Some("um"),
-        }
-    }
-
-    pub fn description(self) -> &'static str {
-        match self {
-            StateId::Sx => "State: contact deformation along x",
-            StateId::Sy => "State: contact deformation along y",
-            StateId::X => "State: body position along x (under velocity drive the integral of v_d)",
-            StateId::Y => "State: body position along y",
-            StateId::Vx => "State: body velocity along x",
-            StateId::Vy => "State: body velocity along y",
-            StateId::Xd => "State: position of the spring's far end (the integral of v_d)",
-            StateId::Window => {
-                "State: integral of F_Fx over the averaging window in progress (F_mean = F_int/window at its end)"
-            }
-        }
-    }
-
-    pub fn derivative_description(self) -> &'static str {
-        match self {
-            StateId::Sx => "Deformation rate along x (the friction law)",
-            StateId::Sy => "Deformation rate along y (the friction law)",
-            StateId::X => "Body velocity along x",
-            StateId::Y => "Body velocity along y",
-            StateId::Vx => "Body acceleration along x",
-            StateId::Vy => "Body acceleration along y",
-            StateId::Xd => "Velocity of the spring's far end (v_d)",
-            StateId::Window => "F_Fx, the integrand of the window's mean",
-        }
-    }
-
-    /// True when a scene with this configuration and these outputs has the state.
-    pub fn present(self, c: &Config, outputs: &[OutputId]) -> bool {
-        let force_or_spring = c.drive != Drive::Velocity;
-        match self {
-            StateId::Sx => true,
-            StateId::Sy => c.planar(),
-            StateId::X => true,
-            StateId::Vx => force_or_spring,
-            StateId::Y | StateId::Vy => c.lateral_free(),
-            StateId::Xd => c.drive == Drive::Spring,
-            StateId::Window => {
-                outputs.contains(&OutputId::FMean) || outputs.contains(&OutputId::Reduction)
-            }
-        }
-    }
-
     /// The knowns the derivative depends on, in this configuration (the `dependencies` of
     /// `ModelStructure/Derivatives`): see the table of the module's documentation and, for the
     /// deformation rate and the force, [`force_knowns`] and [`rate_knowns`].
     pub fn derivative_dependencies(self, c: &Config, outputs: &[OutputId]) -> Vec<Known> {
-        let mut d = match self {
-            StateId::Sx => rate_knowns(c, 0),
-            StateId::Sy => rate_knowns(c, 1),
-            StateId::X if c.drive == Drive::Velocity => vec![Known::Input(InputId::VD)],
-            StateId::X => vec![Known::State(StateId::Vx)],
-            StateId::Y => vec![Known::State(StateId::Vy)],
-            StateId::Vx => {
-                let mut d = force_knowns(c, 0);
-                match c.drive {
-                    Drive::Force => d.push(Known::Input(InputId::FD)),
-                    _ => d.extend([
-                        Known::State(StateId::X),
-                        Known::State(StateId::Vx),
-                        Known::State(StateId::Xd),
-                        Known::Input(InputId::VD),
-                    ]),
-                }
-                d
-            }
-            StateId::Vy => force_knowns(c, 1),
-            StateId::Xd => vec![Known::Input(InputId::VD)],
-            StateId::Window => force_knowns(c, 0),
-        };
+        let mut d = self.derivative_knowns(c);
         d.retain(|k| match k {
             Known::State(s) => s.present(c, outputs),
             Known::Input(i) => i.present(c),
@@ -215,7 +162,7 @@ pub fn velocity_knowns(c: &Config) -> Vec<Known> {
                 d.push(Known::State(StateId::Vy));
             }
         }
-        _ => {
+        Drive::Force | Drive::Spring => {
             d.push(Known::State(StateId::Vx));
             if c.planar() {
                 d.push(Known::State(StateId::Vy));
@@ -237,7 +184,7 @@ pub fn velocity_knowns(c: &Config) -> Vec<Known> {
 pub fn rate_knowns(c: &Config, k: usize) -> Vec<Known> {
     let own = [StateId::Sx, StateId::Sy][k];
     let mut d = vec![Known::State(own)];
-    if c.planar() && c.law == Law::Dupont {
+    if c.planar() && c.law.has_breakaway() {
         d.push(Known::State([StateId::Sy, StateId::Sx][k]));
     }
     d.extend(velocity_knowns(c));
@@ -250,7 +197,7 @@ pub fn rate_knowns(c: &Config, k: usize) -> Vec<Known> {
 /// The knowns component `k` of the friction force depends on: `k_t·s` for Dahl and Dupont;
 /// LuGre adds `h_t(|v_r|)·ds/dt + h_v·v_r`, so the deformation rate's knowns.
 pub fn force_knowns(c: &Config, k: usize) -> Vec<Known> {
-    if c.law == Law::LuGre {
+    if c.law.force_has_rate() {
         rate_knowns(c, k)
     } else {
         vec![Known::State([StateId::Sx, StateId::Sy][k])]
@@ -369,7 +316,7 @@ impl IndicatorId {
     pub fn present(self, c: &Config) -> bool {
         match self {
             IndicatorId::Slip => true,
-            IndicatorId::Direction => c.planar() && c.law == Law::Dupont,
+            IndicatorId::Direction => c.planar() && c.law.has_breakaway(),
             IndicatorId::LiftOff => c.normal_input,
         }
     }

@@ -14,14 +14,14 @@
 //! drive and the spring-damper force output of a spring drive.
 
 use super::rule::{any, non_negative, positive};
-use super::{Config, Depends, Drive, Law, Motion, Rule, Variability};
+use super::{Config, Depends, Rule, Variability};
 
 parameters! {
     M => m {
         name: "m", vr: 1, unit: "kg", display: None, default: 5.6,
         rule: positive(1e-4, 1e6), // 0.1 g to 1000 t
         variability: Fixed,
-        present: |c| c.body_dynamic() || c.law == Law::LuGre,
+        present: |c| c.body_dynamic() || c.law.has_contact_damping(),
         description: "Body mass",
     }
     FN => f_n {
@@ -53,51 +53,51 @@ parameters! {
         // Below 0.5 the deformation reaches its bound at a finite distance; a force or spring
         // drive, which integrates the body and the deformation together, then takes millions
         // of steps per millisecond (the velocity drive takes the closed form for any exponent).
-        narrowed: |c, rule| if c.drive != Drive::Velocity { Rule { min: 0.5, ..rule } } else { rule },
+        narrowed: |c, rule| if !c.drive.imposes_velocity() { Rule { min: 0.5, ..rule } } else { rule },
         variability: Fixed,
-        present: |c| c.law == Law::Dahl && c.motion == Motion::Longitudinal,
+        present: |c| c.law.has_exponent() && !c.planar(),
         description: "Dahl exponent (longitudinal Dahl only)",
     }
     RBa => r_ba {
         name: "r_ba", vr: 6, unit: "1", display: None, default: 0.5,
         rule: non_negative(0.0, 0.999),
         variability: Fixed,
-        present: |c| c.law == Law::Dupont,
+        present: |c| c.law.has_breakaway(),
         description: "Dupont breakaway ratio s_ba/s_ss",
     }
     FS => f_s {
         name: "F_S", vr: 7, unit: "N", display: None, default: 14.3,
         rule: non_negative(0.0, 1e9),
         variability: Fixed,
-        present: |c| c.law == Law::LuGre,
+        present: |c| c.law.has_static_force(),
         description: "LuGre static friction force at the scene's load (start values of F_N and mu); the law scales it with mu*F_N, keeping F_S/F_C; F_S < F_C there is refused",
     }
     VS => v_s {
         name: "v_S", vr: 8, unit: "m/s", display: Some("mm/s"), default: 1e-3,
         rule: positive(1e-9, 1e2),
         variability: Fixed,
-        present: |c| c.law == Law::LuGre,
+        present: |c| c.law.has_static_force(),
         description: "Stribeck velocity",
     }
     ZetaT => zeta_t {
         name: "zeta_t", vr: 9, unit: "1", display: None, default: 1.0,
         rule: non_negative(0.0, 1e3),
         variability: Fixed,
-        present: |c| c.law == Law::LuGre,
+        present: |c| c.law.has_static_force(),
         description: "LuGre contact damping ratio (Eq. 6) at the scene's load (start value of F_N); the law scales it with F_N",
     }
     HV => h_v {
         name: "h_v", vr: 10, unit: "N.s/m", display: None, default: 0.0,
         rule: non_negative(0.0, 1e9),
         variability: Fixed,
-        present: |c| c.law == Law::LuGre,
+        present: |c| c.law.has_static_force(),
         description: "LuGre viscous coefficient",
     }
     VE => v_e {
         name: "v_e", vr: 11, unit: "m/s", display: Some("mm/s"), default: 1e-3,
         rule: positive(1e-9, 1e2),
         variability: Fixed,
-        present: |c| c.law == Law::LuGre,
+        present: |c| c.law.has_static_force(),
         description: "LuGre damping decay velocity (Eq. 7)",
     }
     U0 => u0 {
@@ -132,14 +132,14 @@ parameters! {
         name: "k_d", vr: 16, unit: "N/m", display: None, default: 1e5,
         rule: non_negative(0.0, 1e13),
         variability: Fixed,
-        present: |c| c.drive == Drive::Spring,
+        present: |c| c.drive.has_spring(),
         description: "Spring-drive stiffness",
     }
     CD => c_d {
         name: "c_d", vr: 17, unit: "N.s/m", display: None, default: 100.0,
         rule: non_negative(0.0, 1e9),
         variability: Fixed,
-        present: |c| c.drive == Drive::Spring,
+        present: |c| c.drive.has_spring(),
         description: "Spring-drive damping",
     }
     TAvg => t_avg {
@@ -162,13 +162,13 @@ inputs! {
     FD => f_d {
         name: "F_d", vr: 101, unit: "N", display: None,
         rule: any(-1e9, 1e9),
-        present: |c| c.drive == Drive::Force,
+        present: |c| c.drive.force_input(),
         description: "Driving force along x",
     }
     VD => v_d {
         name: "v_d", vr: 102, unit: "m/s", display: Some("mm/s"),
         rule: any(-1e3, 1e3),
-        present: |c| c.drive != Drive::Force,
+        present: |c| !c.drive.force_input(),
         description: "Driving velocity",
     }
     VSx => v_sx {
@@ -242,7 +242,7 @@ outputs! {
         name: "reduction", vr: 210, unit: "1", display: None,
         // Under force and spring drives a mean friction below F_C also comes from a body that
         // sticks (the friction then balances the drive): no reduction the vibration caused.
-        present: |c| c.drive == Drive::Velocity, depends: Reduction,
+        present: |c| c.drive.imposes_velocity(), depends: Reduction,
         description: "Friction reduction 1 - F_mean/F_C under the velocity drive: the fraction by which the vibration lowers the mean friction (0: none, also when F_C = 0)",
     }
     PDiss => p_diss {
@@ -254,7 +254,7 @@ outputs! {
     /// the model's driving force is `F_Fx`, not an output of its own).
     FDrive => f_d {
         name: "F_d", vr: 101, unit: "N", display: None,
-        present: |c| c.drive == Drive::Spring, depends: DriveForce,
+        present: |c| c.drive.has_spring(), depends: DriveForce,
         description: "Driving force along x",
     }
     FFxStep => f_fx_step {

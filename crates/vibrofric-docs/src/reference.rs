@@ -9,14 +9,11 @@
 
 use std::fmt::Write as _;
 
-use crate::description::scene::{
-    default_inputs, drive_name, lateral_name, law_name, motion_name, Scene, DRIVES, KEYS, KEY_HELP,
-    LATERALS, LAWS, MOTIONS, NORMALS, SUPPORTS,
-};
-use crate::description::variables::{Causality, VarKind, Variable, VARIABLES};
-use crate::description::xml;
-use crate::table::Params;
-use crate::table::{Drive, Lateral, Law, Motion};
+use vibrofric::description::scene::{default_inputs, KeyValues, Scene, KEYS};
+use vibrofric::description::variables::{Causality, VarKind, Variable, VARIABLES};
+use vibrofric::description::xml;
+use vibrofric::table::Params;
+use vibrofric::table::{Config, Drive, Lateral, Law, Motion, Support};
 
 fn code_list(words: &[&str]) -> String {
     words
@@ -63,18 +60,21 @@ pub fn scene_text(
     motion: Motion,
     drive: Drive,
     lateral: Option<Lateral>,
-    support: &[&str],
+    support: &[Support],
 ) -> String {
     let mut t = format!(
         "model_identifier = \"Reference\"\nlaw = \"{}\"\nmotion = \"{}\"\ndrive = \"{}\"\n",
-        law_name(law),
-        motion_name(motion),
-        drive_name(drive)
+        law.word(),
+        motion.word(),
+        drive.word()
     );
     if let Some(l) = lateral {
-        t.push_str(&format!("lateral = \"{}\"\n", lateral_name(l)));
+        t.push_str(&format!("lateral = \"{}\"\n", l.word()));
     }
-    let s: Vec<String> = support.iter().map(|w| format!("\"{w}\"")).collect();
+    let s: Vec<String> = support
+        .iter()
+        .map(|s| format!("\"{}\"", s.word()))
+        .collect();
     t.push_str(&format!("support = [{}]\n", s.join(", ")));
     t
 }
@@ -85,15 +85,18 @@ fn parse(text: &str) -> Result<Scene, String> {
 
 /// Every law × motion × drive (× lateral for planar velocity drives), as the reader names them.
 pub fn configurations() -> Vec<(Law, Motion, Drive, Option<Lateral>)> {
-    let laws = [Law::Dahl, Law::Dupont, Law::LuGre];
-    let motions = [Motion::Longitudinal, Motion::Planar];
-    let drives = [Drive::Force, Drive::Velocity, Drive::Spring];
     let mut out = vec![];
-    for law in laws {
-        for motion in motions {
-            for drive in drives {
-                if motion == Motion::Planar && drive == Drive::Velocity {
-                    for l in [Lateral::Free, Lateral::Guided] {
+    for law in Law::ALL {
+        for motion in Motion::ALL {
+            for drive in Drive::ALL {
+                let c = Config {
+                    law,
+                    motion,
+                    drive,
+                    ..Config::default()
+                };
+                if c.has_lateral_choice() {
+                    for l in Lateral::ALL {
                         out.push((law, motion, drive, Some(l)));
                     }
                 } else {
@@ -121,14 +124,35 @@ fn minus<'a>(a: &[&'a Variable], b: &[&'a Variable]) -> Vec<&'a Variable> {
 }
 
 /// `docs/scenes.md`: `standard` is every standard scene as (file name, scene).
+/// `docs/scenes.md`: `standard` is every standard scene as (file name, scene).
 pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
+    let configs = configurations();
+    // Which choices a variable appears with: every configuration with every support motion.
+    let all_supports: [&[Support]; 3] = [&[Support::Harmonic], &[Support::Input], &Support::ALL];
+    let mut scenes_all: Vec<Scene> = vec![];
+    for &(law, motion, drive, lateral) in &configs {
+        for s in all_supports {
+            scenes_all.push(parse(&scene_text(law, motion, drive, lateral, s))?);
+        }
+    }
     let mut m = String::new();
-    let w = &mut m;
+    intro(&mut m)?;
+    keys_section(&mut m)?;
+    parameters_section(&mut m, &scenes_all)?;
+    outputs_section(&mut m, &scenes_all)?;
+    combinations_section(&mut m, &configs)?;
+    standard_section(&mut m, standard)?;
+    Ok(m)
+}
+
+/// The title, what a scene is, and an example.
+fn intro(w: &mut String) -> Result<(), String> {
     writeln!(
         w,
         "# Scene reference\n\n\
-         <!-- Generated from the scene reader (src/description/scene.rs) and the variable table \
-         (src/description/variables.rs) by src/description/reference.rs. Do not edit: \
+         <!-- Generated from the scene reader (crates/vibrofric/src/description/scene.rs) and \
+         the variable table (crates/vibrofric/src/table/table.rs) by \
+         crates/vibrofric-docs/src/reference.rs. Do not edit: \
          regenerate with `UPDATE_DOCS=1 cargo test --test docs_reference`. -->\n\n\
          A scene is a TOML file that says what an FMU contains: the friction law, the motion, \
          the drive, the support motion, the outputs and the start values. `cargo run --release` \
@@ -153,34 +177,24 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
          ```\n"
     )
     .unwrap();
+    Ok(())
+}
 
-    // Keys.
+/// The keys, and errors the reader gives.
+fn keys_section(w: &mut String) -> Result<(), String> {
     writeln!(
         w,
         "## Keys\n\n| key | values | required / default | meaning |\n|---|---|---|---|"
     )
     .unwrap();
-    for (i, key) in KEYS.iter().enumerate() {
-        let (k, req, meaning) = KEY_HELP[i];
-        if k != *key {
-            return Err(format!(
-                "KEY_HELP[{i}] is {k}, KEYS[{i}] is {key}: keep them in the same order"
-            ));
-        }
-        let values = match *key {
-            "model_identifier" => "string (C identifier)".to_string(),
-            "description" => "string".to_string(),
-            "law" => code_list(&LAWS),
-            "motion" => code_list(&MOTIONS),
-            "drive" => code_list(&DRIVES),
-            "lateral" => code_list(&LATERALS),
-            "support" => format!("array of {}", code_list(&SUPPORTS)),
-            "normal" => code_list(&NORMALS),
-            "outputs" => "array of output names".to_string(),
-            "start" => "table: name = number".to_string(),
-            other => return Err(format!("no values documented for key {other}")),
+    for key in KEYS {
+        let values = match key.values {
+            KeyValues::Text(t) => t.to_string(),
+            KeyValues::OneOf(words) => code_list(words),
+            KeyValues::ArrayOf(words) => format!("array of {}", code_list(words)),
         };
-        writeln!(w, "| `{key}` | {values} | {req} | {meaning} |").unwrap();
+        let (name, req, meaning) = (key.name, key.requirement, key.meaning);
+        writeln!(w, "| `{name}` | {values} | {req} | {meaning} |").unwrap();
     }
     writeln!(
         w,
@@ -193,7 +207,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         Motion::Longitudinal,
         Drive::Velocity,
         None,
-        &["harmonic"],
+        &[Support::Harmonic],
     );
     for bad in [
         format!("{base}colour = \"red\"\n"),
@@ -207,8 +221,11 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
             Err(e) => writeln!(w, "    {e}").unwrap(),
         }
     }
+    Ok(())
+}
 
-    // Parameters and inputs.
+/// Every parameter and input, with the scenes that have it.
+fn parameters_section(w: &mut String, scenes_all: &[Scene]) -> Result<(), String> {
     writeln!(
         w,
         "\n## Parameters and inputs (`[start]`)\n\n\
@@ -220,20 +237,11 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
          |---|---|---|---|---|---|---|---|"
     )
     .unwrap();
-    let configs = configurations();
-    let all_supports: [&[&str]; 3] = [&["harmonic"], &["input"], &["harmonic", "input"]];
-    // Which choices a variable appears with: scan every configuration and support motion.
-    let mut scenes_all: Vec<Scene> = vec![];
-    for &(law, motion, drive, lateral) in &configs {
-        for s in all_supports {
-            scenes_all.push(parse(&scene_text(law, motion, drive, lateral, s))?);
-        }
-    }
     for v in VARIABLES
         .iter()
         .filter(|v| matches!(v.kind, VarKind::Param(_) | VarKind::Input(_)))
     {
-        let present = where_present(&scenes_all, |s| s.has_vr(v.vr) && v.settable(&s.config))
+        let present = where_present(scenes_all, |s| s.has_vr(v.vr) && v.settable(&s.config))
             .map_err(|e| format!("{}: {e}", v.name()))?;
         writeln!(
             w,
@@ -250,8 +258,11 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         )
         .unwrap();
     }
+    Ok(())
+}
 
-    // Outputs.
+/// Every output, with the scenes that have it.
+fn outputs_section(w: &mut String, scenes_all: &[Scene]) -> Result<(), String> {
     writeln!(
         w,
         "\n## Outputs\n\n| name | value reference | unit | display unit | in scenes with | description |\n|---|---|---|---|---|---|"
@@ -262,7 +273,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         if !scenes_all.iter().any(has) {
             continue;
         }
-        let present = where_present(&scenes_all, has).map_err(|e| format!("{}: {e}", v.name()))?;
+        let present = where_present(scenes_all, has).map_err(|e| format!("{}: {e}", v.name()))?;
         let description = if matches!(v.kind, VarKind::Input(_)) {
             "Spring-drive force on the body along x, `k_d·(x_d − x) + c_d·(v_d − v_x)` (an output in spring drive, the input of a force drive)"
         } else {
@@ -286,8 +297,14 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         "\nThe key `outputs` keeps a subset; leaving it out keeps every output the scene can have."
     )
     .unwrap();
+    Ok(())
+}
 
-    // Per configuration.
+/// What each law × motion × drive has.
+fn combinations_section(
+    w: &mut String,
+    configs: &[(Law, Motion, Drive, Option<Lateral>)],
+) -> Result<(), String> {
     writeln!(
         w,
         "\n## What each combination has\n\n\
@@ -299,16 +316,16 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
          |---|---|---|---|---|---|---|"
     )
     .unwrap();
-    for &(law, motion, drive, lateral) in &configs {
-        let h = parse(&scene_text(law, motion, drive, lateral, &["harmonic"]))?;
-        let i = parse(&scene_text(law, motion, drive, lateral, &["input"]))?;
-        let both = parse(&scene_text(
+    for &(law, motion, drive, lateral) in configs {
+        let h = parse(&scene_text(
             law,
             motion,
             drive,
             lateral,
-            &["harmonic", "input"],
+            &[Support::Harmonic],
         ))?;
+        let i = parse(&scene_text(law, motion, drive, lateral, &[Support::Input]))?;
+        let both = parse(&scene_text(law, motion, drive, lateral, &Support::ALL))?;
         let (hp, hi, ho) = (
             of(&h, Causality::Parameter),
             of(&h, Causality::Input),
@@ -326,9 +343,9 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         if union != both_vrs {
             return Err(format!(
                 "{} {} {}: support = [harmonic, input] is not the union of the two",
-                law_name(law),
-                motion_name(motion),
-                drive_name(drive)
+                law.word(),
+                motion.word(),
+                drive.word()
             ));
         }
         let mut change = vec![];
@@ -341,14 +358,14 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
             change.push(format!("inputs {}", names(&gained_inputs)));
         }
         let drive_cell = match lateral {
-            Some(l) => format!("{} (lateral `{}`)", drive_name(drive), lateral_name(l)),
-            None => drive_name(drive).to_string(),
+            Some(l) => format!("{} (lateral `{}`)", drive.word(), l.word()),
+            None => drive.word().to_string(),
         };
         writeln!(
             w,
             "| {} | {} | {} | {} | {} | {} | {} |",
-            law_name(law),
-            motion_name(motion),
+            law.word(),
+            motion.word(),
             drive_cell,
             names(&hp),
             names(&hi),
@@ -357,8 +374,11 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         )
         .unwrap();
     }
+    Ok(())
+}
 
-    // Standard scenes.
+/// The standard scenes and the start values each sets.
+fn standard_section(w: &mut String, standard: &[(String, Scene)]) -> Result<(), String> {
     writeln!(
         w,
         "\n## The standard scenes (`scenes/`)\n\n| file | FMU | configuration | variables | start values set by the scene |\n|---|---|---|---|---|"
@@ -383,7 +403,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
             w,
             "| `{file}` | `{}` | {} | {} | {} |",
             s.model_identifier,
-            crate::description::scene::summary(&s.config),
+            vibrofric::description::scene::summary(&s.config),
             s.variables().count(),
             if changed.is_empty() {
                 "—".into()
@@ -393,56 +413,68 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
         )
         .unwrap();
     }
-    Ok(m)
+    Ok(())
 }
 
-/// The conditions a variable's presence is described by, in the words of the scene keys. The
-/// first whose set of scenes is exactly the set that has the variable is used; a variable that
-/// none describes fails the generation (add its condition here).
-type Condition = (&'static str, fn(&crate::table::Config) -> bool);
+/// The conditions a variable's presence is described by, in the words of the scene keys (a
+/// condition per value of `law` and `drive` from their rows). The first whose set of scenes is
+/// exactly the set that has the variable is used; a variable that none describes fails the
+/// generation (add its condition here).
+type Condition = (String, Box<dyn Fn(&Config) -> bool>);
 
-const CONDITIONS: [Condition; 17] = [
-    ("every scene", |_| true),
-    ("law `\"dahl\"`", |c| c.law == Law::Dahl),
-    ("law `\"dupont\"`", |c| c.law == Law::Dupont),
-    ("law `\"lugre\"`", |c| c.law == Law::LuGre),
-    ("motion `\"planar\"`", |c| c.motion == Motion::Planar),
-    ("law `\"dahl\"` and motion `\"longitudinal\"`", |c| {
+fn conditions() -> Vec<Condition> {
+    fn c(text: &str, f: impl Fn(&Config) -> bool + 'static) -> Condition {
+        (text.to_string(), Box::new(f))
+    }
+    let key = |key: &str, word: &str| format!("{key} `\"{word}\"`");
+    let mut out = vec![c("every scene", |_| true)];
+    for law in Law::ALL {
+        out.push(c(&key(Law::KEY.name, law.word()), move |c| c.law == law));
+    }
+    out.push(c(&key(Motion::KEY.name, Motion::Planar.word()), |c| {
+        c.planar()
+    }));
+    out.push(c("law `\"dahl\"` and motion `\"longitudinal\"`", |c| {
         c.law == Law::Dahl && c.motion == Motion::Longitudinal
-    }),
-    ("drive `\"force\"`", |c| c.drive == Drive::Force),
-    ("drive `\"spring\"`", |c| c.drive == Drive::Spring),
-    ("drive `\"velocity\"`", |c| c.drive == Drive::Velocity),
-    ("drive `\"velocity\"` or `\"spring\"`", |c| {
-        c.drive != Drive::Force
-    }),
-    ("support `\"harmonic\"`", |c| c.harmonic),
-    ("support `\"harmonic\"` and motion `\"planar\"`", |c| {
-        c.harmonic && c.motion == Motion::Planar
-    }),
-    ("support `\"input\"`", |c| c.input_support),
-    ("support `\"input\"` and motion `\"planar\"`", |c| {
-        c.input_support && c.motion == Motion::Planar
-    }),
-    (
-        "a moving body (drive `\"force\"` or `\"spring\"`, or `lateral = \"free\"`) or law `\"lugre\"` (its damping `h_t`)",
-        |c| c.body_dynamic() || c.law == Law::LuGre,
-    ),
-    (
-        "motion `\"planar\"`, except a velocity drive with `lateral = \"guided\"`",
-        |c| c.lateral_free(),
-    ),
-    ("no scene", |_| false),
-];
+    }));
+    for drive in Drive::ALL {
+        out.push(c(&key(Drive::KEY.name, drive.word()), move |c| {
+            c.drive == drive
+        }));
+    }
+    out.extend([
+        c("drive `\"velocity\"` or `\"spring\"`", |c| {
+            !c.drive.force_input()
+        }),
+        c("support `\"harmonic\"`", |c| c.harmonic),
+        c("support `\"harmonic\"` and motion `\"planar\"`", |c| {
+            c.harmonic && c.planar()
+        }),
+        c("support `\"input\"`", |c| c.input_support),
+        c("support `\"input\"` and motion `\"planar\"`", |c| {
+            c.input_support && c.planar()
+        }),
+        c(
+            "a moving body (drive `\"force\"` or `\"spring\"`, or `lateral = \"free\"`) or law `\"lugre\"` (its damping `h_t`)",
+            |c| c.body_dynamic() || c.law.has_contact_damping(),
+        ),
+        c(
+            "motion `\"planar\"`, except a velocity drive with `lateral = \"guided\"`",
+            |c| c.lateral_free(),
+        ),
+        c("no scene", |_| false),
+    ]);
+    out
+}
 
-/// Where a variable appears: the [`CONDITIONS`] entry that matches `has` over `scenes` exactly.
-fn where_present(scenes: &[Scene], has: impl Fn(&Scene) -> bool) -> Result<&'static str, String> {
-    CONDITIONS
-        .iter()
+/// Where a variable appears: the [`conditions`] entry that matches `has` over `scenes` exactly.
+fn where_present(scenes: &[Scene], has: impl Fn(&Scene) -> bool) -> Result<String, String> {
+    conditions()
+        .into_iter()
         .find(|(_, cond)| scenes.iter().all(|s| cond(&s.config) == has(s)))
-        .map(|(text, _)| *text)
+        .map(|(text, _)| text)
         .ok_or_else(|| {
-            "no condition in reference.rs CONDITIONS describes the scenes that have this variable"
+            "no condition in reference.rs conditions() describes the scenes that have this variable"
                 .to_string()
         })
 }

@@ -4,11 +4,11 @@
 //! itself. Plain HTML with no script, readable offline in any browser: a partner who receives
 //! only the `.fmu` finds everything here.
 
-use crate::description::figure::sign_convention_svg;
-use crate::description::scene::{drive_name, lateral_name, law_name, motion_name, summary, Scene};
-use crate::description::variables::{Causality, VarKind, Variable};
-use crate::description::xml::{self, DEFAULT_EXPERIMENT, DISPLAY_UNITS};
-use crate::table::{Drive, InputId, Law, Motion};
+use crate::figure::sign_convention_svg;
+use vibrofric::description::scene::{summary, Scene};
+use vibrofric::description::variables::{Causality, VarKind, Variable};
+use vibrofric::description::xml::{self, DEFAULT_EXPERIMENT, DISPLAY_UNITS};
+use vibrofric::table::{Drive, InputId, Law};
 
 /// The FMI standard a page speaks: the names of its calls, its identifier and its importer
 /// classes. The two editions of a scene share variables, value references and results.
@@ -141,7 +141,7 @@ fn start_html(scene: &Scene, v: &Variable) -> String {
     s
 }
 
-fn range_html(v: &Variable, c: &crate::table::Config) -> String {
+fn range_html(v: &Variable, c: &vibrofric::table::Config) -> String {
     if v.causality(c) == Causality::Output {
         return String::new();
     }
@@ -156,7 +156,7 @@ fn range_html(v: &Variable, c: &crate::table::Config) -> String {
 /// The equations of the scene's configuration, as HTML list items.
 fn equations(scene: &Scene, ed: Edition) -> Vec<String> {
     let c = &scene.config;
-    let planar = c.motion == Motion::Planar;
+    let planar = c.planar();
     let mut eq = vec![];
     eq.push(
         "Coulomb force <code>F_C = mu·F_N</code>; relative velocity <code>v_r = v − v_s</code> (body velocity less support velocity).".to_string(),
@@ -221,7 +221,7 @@ fn equations(scene: &Scene, ed: Edition) -> Vec<String> {
             if planar {
                 eq.push(format!(
                     "Lateral motion {}: {}.",
-                    lateral_name(c.lateral),
+                    c.lateral.word(),
                     if c.lateral_free() {
                         "<code>m·dv_y/dt = −F_Fy</code> (Eq. 10)"
                     } else {
@@ -266,7 +266,7 @@ fn equations(scene: &Scene, ed: Edition) -> Vec<String> {
     } else {
         "<code>T_avg</code>"
     };
-    let reduction = if c.drive == Drive::Velocity {
+    let reduction = if c.drive.imposes_velocity() {
         " <code>reduction = 1 − F_mean/F_C</code>: the fraction by which the vibration lowers the mean friction of the body driven at <code>v_d</code> (0: no reduction, also where the Coulomb force is negligible, F_C/k_t ≤ 1e-290 m; 0.6: 60 % less friction)."
     } else {
         " This drive has no <code>reduction</code> output: the drive sets the friction a body meets while it sticks, so a mean friction below F_C is no reduction the vibration caused; compare <code>F_mean</code> with a run without the vibration (or use a velocity-driven scene)."
@@ -319,7 +319,7 @@ pub fn guidance_for(scene: &Scene, ed: Edition) -> Vec<String> {
          and reduces little.",
         xml::number((s_ss * 1e6 * 1e4).round() / 1e4)
     ));
-    if c.law == Law::LuGre {
+    if c.law.has_contact_damping() {
         let excitation = if c.harmonic {
             "under a fast vibration"
         } else {
@@ -720,11 +720,11 @@ fn page(scene: &Scene, binaries: &[Binary], ed: Edition) -> String {
     h.push_str(other);
     h.push_str(&format!(
         "<p>Scene: law <code>{}</code>, motion <code>{}</code>, drive <code>{}</code>{}, support motion {}.</p>\n",
-        law_name(c.law),
-        motion_name(c.motion),
-        drive_name(c.drive),
-        if c.planar() && c.drive == Drive::Velocity {
-            format!(", lateral <code>{}</code>", lateral_name(c.lateral))
+        c.law.word(),
+        c.motion.word(),
+        c.drive.word(),
+        if c.has_lateral_choice() {
+            format!(", lateral <code>{}</code>", c.lateral.word())
         } else {
             String::new()
         },
@@ -788,7 +788,7 @@ fn page(scene: &Scene, binaries: &[Binary], ed: Edition) -> String {
         "<pre class=\"python\">{}</pre>\n",
         escape(&usage_snippet_for(scene, ed))
     ));
-    if c.law == Law::LuGre {
+    if c.law.has_contact_damping() {
         h.push_str("<p>How far <code>F_Fx</code> swings within the periods (see <code>zeta_t</code> above):</p>\n");
         h.push_str(&format!(
             "<pre class=\"python\">{}</pre>\n",
@@ -803,7 +803,7 @@ fn page(scene: &Scene, binaries: &[Binary], ed: Edition) -> String {
     h.push_str(&platform_html(scene, binaries));
 
     h.push_str("<h2>Logging</h2>\n<ul>\n");
-    for c in crate::description::log::Category::ALL {
+    for c in vibrofric::description::log::Category::ALL {
         let (name, d) = (c.name(), c.description());
         let d = in_words_of(ed, d);
         h.push_str(&format!("<li><code>{name}</code>: {}</li>\n", escape(&d)));

@@ -1,0 +1,132 @@
+//! `vibrofric export`: reads every scene first (one bad scene exports nothing), builds the
+//! libraries of the requested platforms, and writes each scene's FMI 2.0 and FMI 3.0 FMU with its
+//! model description and documentation page; optionally the checked-in model descriptions and
+//! the self-checks.
+
+use std::path::{Path, PathBuf};
+
+use vibrofric::description::variables::Causality;
+use vibrofric::description::{xml, xml3, Scene};
+use vibrofric_docs::docs;
+
+use crate::package::{read_binaries, write_fmu};
+use crate::platforms::{self, Request};
+use crate::self_check::{self_check, self_check_fmi3, self_check_model_exchange};
+use crate::{standard_scenes, SCENES_DIR};
+
+pub fn export(
+    scene_files: &[PathBuf],
+    out: &Path,
+    descriptions: Option<&Path>,
+    library: Option<&Path>,
+    check: bool,
+    platforms: &Request,
+) -> Result<(), String> {
+    let files = if scene_files.is_empty() {
+        standard_scenes(Path::new(SCENES_DIR))?
+    } else {
+        scene_files.to_vec()
+    };
+    // Read every scene before writing anything: one bad scene exports nothing.
+    let mut scenes: Vec<(PathBuf, Scene)> = vec![];
+    for f in &files {
+        let s = Scene::load(f).map_err(|e| e.to_string())?;
+        if let Some((other, _)) = scenes
+            .iter()
+            .find(|(_, o)| o.model_identifier == s.model_identifier)
+        {
+            return Err(format!(
+                "{}: model_identifier = \"{}\": already used by {}; each FMU needs its own",
+                f.display(),
+                s.model_identifier,
+                other.display()
+            ));
+        }
+        scenes.push((f.clone(), s));
+    }
+    let (shipped, skipped) = platforms::build(platforms, library)?;
+    for s in &shipped {
+        println!("{}", s.line);
+    }
+    for line in &skipped {
+        println!("{line}");
+    }
+    let names: Vec<&str> = shipped.iter().map(|s| s.platform.name()).collect();
+    println!("platforms in each FMU: {}", names.join(", "));
+    let files = read_binaries(&shipped)?;
+    let doc2: Vec<docs::Binary> = shipped.iter().map(|s| s.doc2.clone()).collect();
+    let doc3: Vec<docs::Binary> = shipped.iter().map(|s| s.doc3.clone()).collect();
+
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    if let Some(d) = descriptions {
+        std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
+    let out3 = out.join("fmi3");
+    std::fs::create_dir_all(&out3).map_err(|e| format!("{}: {e}", out3.display()))?;
+    for (file, scene) in &scenes {
+        let fmu = out.join(format!("{}.fmu", scene.model_identifier));
+        let description = xml::model_description(scene);
+        let id = &scene.model_identifier;
+        let bins2: Vec<(String, &[u8])> = shipped
+            .iter()
+            .zip(&files)
+            .map(|(s, (lib2, _))| {
+                let ext = s.platform.extension();
+                (
+                    format!("binaries/{}/{id}.{ext}", s.platform.name()),
+                    &lib2[..],
+                )
+            })
+            .collect();
+        let doc = docs::index_html_for(scene, &doc2);
+        write_fmu(&fmu, scene, &description, &bins2, &doc)?;
+        // The FMI 3.0 edition: the same libraries and scene, FMI 3.0's description and layout.
+        let fmu3 = out3.join(format!("{id}.fmu"));
+        let bins3: Vec<(String, &[u8])> = shipped
+            .iter()
+            .zip(&files)
+            .flat_map(|(s, (_, libs3))| {
+                let ext = s.platform.extension();
+                s.fmi3.iter().zip(libs3).map(move |((folder, _), lib)| {
+                    (format!("binaries/{folder}/{id}.{ext}"), &lib[..])
+                })
+            })
+            .collect();
+        let doc3 = docs::index_html_fmi3(scene, &doc3);
+        write_fmu(&fmu3, scene, &xml3::model_description(scene), &bins3, &doc3)?;
+        let n_vars = scene.variables().count();
+        let n_out = scene
+            .variables()
+            .filter(|v| v.causality(&scene.config) == Causality::Output)
+            .count();
+        let size = std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0);
+        println!(
+            "{} -> {} and {} ({n_vars} variables, {n_out} outputs, {:.1} MB, GUID {})",
+            file.display(),
+            fmu.display(),
+            fmu3.display(),
+            size as f64 / 1e6,
+            xml::guid(scene)
+        );
+        if let Some(d) = descriptions {
+            let p = d.join(format!("{}.xml", scene.model_identifier));
+            std::fs::write(&p, &description).map_err(|e| format!("{}: {e}", p.display()))?;
+            println!("  wrote {}", p.display());
+        }
+        if check {
+            match self_check(&fmu, scene) {
+                Ok(line) => println!("  self-check: {line}"),
+                Err(e) => return Err(format!("{}: self-check failed: {e}", fmu.display())),
+            }
+            match self_check_fmi3(&fmu3, &fmu) {
+                Ok(line) => println!("  self-check FMI 3.0: {line}"),
+                Err(e) => return Err(format!("{}: self-check failed: {e}", fmu3.display())),
+            }
+            match self_check_model_exchange(&fmu, scene) {
+                Ok(line) => println!("  self-check Model Exchange: {line}"),
+                Err(e) => return Err(format!("{}: self-check failed: {e}", fmu.display())),
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,196 @@
+//! The exporter's self-checks: each exported FMU, loaded through the importer crate, against the
+//! core library run directly (Co-Simulation, the FMI 3.0 edition, Model Exchange).
+
+use std::path::Path;
+
+use vibrofric::description::variables::VarKind;
+use vibrofric::description::{xml, Scene};
+use vibrofric::model::{self, InputId, StateId};
+use vibrofric_import::fmi3::Fmu3;
+use vibrofric_import::Fmu;
+
+/// The FMI 3.0 edition through the importer's FMI 3.0 loader, on the steps of [`self_check`]:
+/// its `F_mean` and `reduction` must equal the FMI 2.0 edition's bit for bit.
+pub fn self_check_fmi3(fmu3_path: &Path, fmu2_path: &Path) -> Result<String, String> {
+    let (t0, t1, _, step) = xml::DEFAULT_EXPERIMENT;
+    let fmu2 = Fmu::load(fmu2_path).map_err(|e| e.to_string())?;
+    let fmu3 = Fmu3::load(fmu3_path).map_err(|e| e.to_string())?;
+    if fmu3.description.guid != fmu2.description.guid {
+        return Err(format!(
+            "instantiationToken {} is not the FMI 2.0 GUID {}",
+            fmu3.description.guid, fmu2.description.guid
+        ));
+    }
+    let outputs = ["F_mean", "reduction"].map(|n| fmu2.description.vr(n));
+    let outputs: Vec<u32> = outputs.into_iter().flatten().collect();
+    let rows2 = fmu2
+        .simulate(t1 - t0, step, &[], &outputs)
+        .map_err(|e| e.to_string())?;
+    let rows3 = fmu3
+        .simulate(t1 - t0, step, &[], &outputs)
+        .map_err(|e| e.to_string())?;
+    let same = rows2.len() == rows3.len()
+        && rows2
+            .iter()
+            .flatten()
+            .zip(rows3.iter().flatten())
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+    if !same {
+        return Err("F_mean or reduction differ from the FMI 2.0 edition's".into());
+    }
+    Ok(format!(
+        "F_mean and reduction at all {} points equal to the FMI 2.0 edition's, bit for bit",
+        rows3.len()
+    ))
+}
+
+/// Model Exchange through the exported FMU: the core steps the scene (its start values, the
+/// default tolerance) to a time inside a later window; an instance for Model Exchange, set to
+/// the same time and states, must give the core's derivatives and the Jacobian column of each
+/// state bit for bit (the same code behind the C interface).
+pub fn self_check_model_exchange(fmu_path: &Path, scene: &Scene) -> Result<String, String> {
+    let (t0, _, tol, _) = xml::DEFAULT_EXPERIMENT;
+    let t = t0 + 0.0123;
+    let mut sim = model::build(scene.config, scene.start, t0, tol).map_err(|e| e.to_string())?;
+    for i in InputId::ALL {
+        if i.present(&scene.config) {
+            sim.set_input(i, i.get(&scene.inputs))
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    sim.step_to(t).map_err(|e| e.to_string())?;
+    let states: Vec<StateId> = scene
+        .variables()
+        .filter_map(|v| match v.kind {
+            VarKind::State(x) => Some(x),
+            _ => None,
+        })
+        .collect();
+    let (x, dx) = (sim.states(), sim.derivatives());
+    let fmu = Fmu::load(fmu_path).map_err(|e| e.to_string())?;
+    let mut inst = fmu
+        .instantiate_model_exchange("self-check")
+        .map_err(|e| e.to_string())?;
+    let ok = |s: vibrofric_import::Status, what: &str, inst: &vibrofric_import::Instance| {
+        if s == vibrofric_import::Status::Ok {
+            Ok(())
+        } else {
+            Err(format!("{what}: {s:?} ({})", inst.last_message()))
+        }
+    };
+    ok(inst.setup_experiment(Some(tol), t0, None), "setup", &inst)?;
+    ok(inst.enter_initialization_mode(), "initialization", &inst)?;
+    ok(inst.exit_initialization_mode(), "initialization", &inst)?;
+    ok(inst.new_discrete_states().0, "event update", &inst)?;
+    ok(inst.enter_continuous_time_mode(), "continuous time", &inst)?;
+    ok(inst.set_time(t), "time", &inst)?;
+    let values: Vec<f64> = states.iter().map(|s| x[s.index()]).collect();
+    ok(inst.set_continuous_states(&values), "states", &inst)?;
+    let got = inst
+        .get_derivatives(states.len())
+        .map_err(|s| format!("derivatives: {s:?} ({})", inst.last_message()))?;
+    for (s, d) in states.iter().zip(&got) {
+        if d.to_bits() != dx[s.index()].to_bits() {
+            return Err(format!(
+                "{} = {d} through the FMU but {} through the core",
+                s.derivative_name(),
+                dx[s.index()]
+            ));
+        }
+    }
+    let unknowns: Vec<u32> = states.iter().map(|s| s.derivative_vr()).collect();
+    for known in &states {
+        let mut dir = [0.0; StateId::COUNT];
+        dir[known.index()] = 1.0;
+        let (core, _) = sim.tangent(&dir, &model::Inputs::default());
+        let column = inst
+            .get_directional_derivative(&unknowns, &[known.vr()], &[1.0])
+            .map_err(|s| format!("directional derivative: {s:?} ({})", inst.last_message()))?;
+        for (s, d) in states.iter().zip(&column) {
+            if d.to_bits() != core[s.index()].to_bits() {
+                return Err(format!(
+                    "d {} / d {} = {d} through the FMU but {} through the core",
+                    s.derivative_name(),
+                    known.name(),
+                    core[s.index()]
+                ));
+            }
+        }
+    }
+    Ok(format!(
+        "the derivatives of its {} states and their Jacobian at t = {t} s equal to the core's, bit for bit",
+        states.len()
+    ))
+}
+
+/// A short simulation through the exported FMU: load the archive with the crate's importer
+/// (unpacks it, loads `binaries/<platform>/<model_identifier>.so`, instantiates with the GUID of
+/// its model description and its `resources/`), run the default experiment (0.1 s, communication
+/// step 1e-3 s) with the scene's start values, and compare `F_mean` and `reduction` with the same
+/// steps taken by the core library directly. Returns the line to print.
+pub fn self_check(fmu_path: &Path, scene: &Scene) -> Result<String, String> {
+    let (t0, t1, tol, step) = xml::DEFAULT_EXPERIMENT;
+    let clock = std::time::Instant::now();
+    let fmu = Fmu::load(fmu_path).map_err(|e| e.to_string())?;
+    if fmu.description.guid != xml::guid(scene) {
+        return Err(format!(
+            "the archive's GUID {} is not the scene's {}",
+            fmu.description.guid,
+            xml::guid(scene)
+        ));
+    }
+    let vr = |name: &str| {
+        fmu.description
+            .vr(name)
+            .ok_or_else(|| format!("the FMU has no variable {name}"))
+    };
+    // `reduction` is an output of velocity-driven scenes only.
+    let mut outputs = vec![vr("F_mean")?];
+    outputs.extend(fmu.description.vr("reduction"));
+    let rows = fmu
+        .simulate(t1 - t0, step, &[], &outputs)
+        .map_err(|e| e.to_string())?;
+    let elapsed = clock.elapsed().as_secs_f64();
+    let last = rows.last().ok_or("the simulation returned no rows")?;
+    let (f_mean, reduction) = (last[1], last.get(2).copied());
+    if !(f_mean.is_finite() && reduction.is_none_or(f64::is_finite)) {
+        return Err(format!(
+            "non-finite result: F_mean = {f_mean}, reduction = {reduction:?}"
+        ));
+    }
+    let reduction = reduction.map_or(String::new(), |r| format!(", reduction = {r:.4}"));
+
+    // The same communication points through the core (as `Fmu::simulate` steps them).
+    let mut sim = model::build(scene.config, scene.start, t0, tol).map_err(|e| e.to_string())?;
+    for i in InputId::ALL {
+        if i.present(&scene.config) {
+            sim.set_input(i, i.get(&scene.inputs))
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    let n = ((t1 - t0) / step).round().max(1.0) as u64;
+    let mut t = t0;
+    for k in 0..n {
+        t = if k + 1 == n { t1 } else { t + step };
+        sim.step_to(t).map_err(|e| e.to_string())?;
+    }
+    let core = sim.outputs();
+    let diff = (f_mean - core.f_mean).abs();
+    // Both run the same code with the same tolerance: anything beyond rounding is a fault.
+    let scale = scene.start.f_c().max(f_mean.abs()).max(1e-12);
+    if diff > 1e-9 * scale {
+        return Err(format!(
+            "F_mean = {f_mean} N through the FMU but {} N through the core",
+            core.f_mean
+        ));
+    }
+    let agreement = if diff == 0.0 {
+        "identical to the core".to_string()
+    } else {
+        format!("core differs by {diff:.1e} N")
+    };
+    Ok(format!(
+        "F_mean = {f_mean:.4} N{reduction} at t = {t1} s ({n} steps of {step} s through the FMU in {:.0} ms; {agreement})",
+        elapsed * 1e3
+    ))
+}
