@@ -35,7 +35,7 @@ use zip::{CompressionMethod, DateTime, ZipWriter};
 use platforms::{Request, Shipped};
 use vibrofric::description::variables::{Causality, VarKind};
 use vibrofric::description::{docs, xml, xml3, Scene};
-use vibrofric::model::{self, InputId, StateId};
+use vibrofric::model::{self, StateId};
 use vibrofric_import::fmi3::Fmu3;
 use vibrofric_import::Fmu;
 
@@ -359,13 +359,12 @@ fn self_check_fmi3(fmu3_path: &Path, fmu2_path: &Path) -> Result<String, String>
 fn self_check_model_exchange(fmu_path: &Path, scene: &Scene) -> Result<String, String> {
     let (t0, _, tol, _) = xml::DEFAULT_EXPERIMENT;
     let t = t0 + 0.0123;
-    let mut sim = model::build(scene.config, scene.start, t0, tol).map_err(|e| e.to_string())?;
-    for i in InputId::ALL {
-        if i.present(&scene.config) {
-            sim.set_input(i, i.get(&scene.inputs))
-                .map_err(|e| e.to_string())?;
-        }
-    }
+    let sim = model::Setup::new(scene.config, scene.start)
+        .inputs(scene.inputs)
+        .start(t0)
+        .tolerance(tol)
+        .build();
+    let mut sim = sim.map_err(|e| e.to_string())?;
     sim.step_to(t).map_err(|e| e.to_string())?;
     let states: Vec<StateId> = scene
         .variables()
@@ -469,13 +468,12 @@ fn self_check(fmu_path: &Path, scene: &Scene) -> Result<String, String> {
     let reduction = reduction.map_or(String::new(), |r| format!(", reduction = {r:.4}"));
 
     // The same communication points through the core (as `Fmu::simulate` steps them).
-    let mut sim = model::build(scene.config, scene.start, t0, tol).map_err(|e| e.to_string())?;
-    for i in InputId::ALL {
-        if i.present(&scene.config) {
-            sim.set_input(i, i.get(&scene.inputs))
-                .map_err(|e| e.to_string())?;
-        }
-    }
+    let sim = model::Setup::new(scene.config, scene.start)
+        .inputs(scene.inputs)
+        .start(t0)
+        .tolerance(tol)
+        .build();
+    let mut sim = sim.map_err(|e| e.to_string())?;
     let n = ((t1 - t0) / step).round().max(1.0) as u64;
     let mut t = t0;
     for k in 0..n {
