@@ -7,8 +7,7 @@
 #[path = "report/peers.rs"]
 mod peers;
 
-#[path = "../tests/common/configs.rs"]
-#[allow(dead_code)]
+#[path = "../tests/support/configs.rs"]
 mod configs;
 
 use peers::RustPeer;

@@ -6,16 +6,16 @@
 //! status is `fmi3Error`, the log line names the function and the rule, and every value reads
 //! as before.
 
-#[allow(unused_macros)]
-mod fmi_harness;
+mod support;
 
 use std::ffi::{c_void, CStr, CString};
 use std::os::raw::c_char;
 use std::ptr;
 use std::sync::Mutex;
 
-use fmi_harness::*;
 use libloading::{Library, Symbol};
+use support::fmu::*;
+use support::scenes::*;
 use vibrofric::description::xml;
 
 const OK: i32 = 0;

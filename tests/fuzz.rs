@@ -31,12 +31,12 @@
 //! `VIBROFRIC_FUZZ_SLOW=1`):
 //! `VIBROFRIC_FUZZ_CALLS=5000000 VIBROFRIC_FUZZ_SEED=7 cargo test --release --test fuzz -- --nocapture`
 
-#[allow(unused_macros)]
-mod fmi_harness;
+mod support;
 
 use std::time::{Duration, Instant};
 
-use fmi_harness::*;
+use support::fmu::*;
+use support::scenes::*;
 use vibrofric::description::scene::Scene;
 use vibrofric::description::variables::VarKind;
 use vibrofric::description::xml;
@@ -66,9 +66,6 @@ impl Rng {
 }
 
 const CALL_BOUND: Duration = Duration::from_secs(10);
-
-/// The standard scenes.
-const FILES: [&str; 10] = STANDARD_SCENES;
 
 fn env_u64(name: &str, default: u64) -> u64 {
     std::env::var(name)
@@ -300,7 +297,7 @@ fn refuse_foreign(sc: &Scene, result: Result<(), Status>, message: &str) -> (Sta
 fn c_api_call_sequences_keep_the_invariants() {
     let budget = env_u64("VIBROFRIC_FUZZ_CALLS", 300_000);
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
-    let fmus: Vec<_> = FILES
+    let fmus: Vec<_> = STANDARD_SCENES
         .iter()
         .map(|f| (load(f, &format!("fuzz-{f}")), scene(f), foreign(f, "cs")))
         .collect();
@@ -555,7 +552,7 @@ fn c_api_call_sequences_keep_the_invariants() {
 fn fmi3_call_sequences_keep_the_invariants() {
     let budget = env_u64("VIBROFRIC_FUZZ_CALLS3", 100_000);
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
-    let fmus: Vec<_> = FILES
+    let fmus: Vec<_> = STANDARD_SCENES
         .iter()
         .map(|f| (load3(f, &format!("fuzz3-{f}")), scene(f), foreign(f, "3")))
         .collect();
@@ -728,12 +725,7 @@ fn mutated_scenes_never_panic_and_accepted_ones_export_well_formed_xml() {
     let budget = env_u64("VIBROFRIC_FUZZ_SCENES", 4_000);
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
     let mut rng = Rng(seed.wrapping_mul(0xd1b5_4a32_d192_ed03) | 1);
-    let texts: Vec<String> = std::fs::read_dir("scenes")
-        .unwrap()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .map(|p| std::fs::read_to_string(p).unwrap())
-        .collect();
+    let texts: Vec<String> = STANDARD_SCENES.iter().map(|f| scene_text(f)).collect();
     const INSERTS: [&str; 12] = [
         "\u{0}",
         "\u{1f}",
@@ -798,7 +790,7 @@ fn mutated_scenes_never_panic_and_accepted_ones_export_well_formed_xml() {
 fn model_exchange_call_sequences_keep_the_invariants() {
     let budget = env_u64("VIBROFRIC_FUZZ_CALLS_ME", 100_000);
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
-    let fmus: Vec<_> = FILES
+    let fmus: Vec<_> = STANDARD_SCENES
         .iter()
         .map(|f| (load(f, &format!("fuzz-me-{f}")), scene(f), foreign(f, "me")))
         .collect();
