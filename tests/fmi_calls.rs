@@ -10,7 +10,7 @@ use vibrofric::description::variables::{Causality, VarKind};
 use vibrofric::description::Scene;
 use vibrofric::model::{self, InputId, Inputs, OutputId, Simulator};
 use vibrofric::physics::Params;
-use vibrofric_import::{Functions, Status};
+use vibrofric_import::{Functions, Importer, Status};
 
 const H: f64 = 1e-3;
 
