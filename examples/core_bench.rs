@@ -6,8 +6,10 @@
 //!
 //! cargo run --release --example core_bench
 
-#[path = "../tests/common/mod.rs"]
-mod common;
+#[path = "../tests/support/configs.rs"]
+mod configs;
+#[path = "../tests/support/reference.rs"]
+mod reference;
 
 use std::time::Instant;
 use vibrofric::model::{build_on, InputId, Law, Path, StepStats};
@@ -15,7 +17,7 @@ use vibrofric::table::Params;
 
 /// Best of 5 runs: (F_mean, seconds, work).
 fn run(params: Params, tol: f64, path: Path, step: f64) -> (f64, f64, StepStats) {
-    let config = common::configs::long_velocity(Law::Dahl);
+    let config = configs::long_velocity(Law::Dahl);
     let mut best = f64::INFINITY;
     let mut out = (0.0, Default::default());
     let n = (1.0 / step).round() as usize;
@@ -34,7 +36,7 @@ fn run(params: Params, tol: f64, path: Path, step: f64) -> (f64, f64, StepStats)
 
 fn main() {
     let p = Params::default();
-    let exact = common::ExactDahl::new(&p, 1e-3).f_mean_after_periods(2000);
+    let exact = reference::ExactDahl::new(&p, 1e-3).f_mean_after_periods(2000);
     println!(
         "exact F_mean = {exact:.15} N  (F_mean/F_C = {:.12})",
         exact / p.f_c()
@@ -65,7 +67,7 @@ fn main() {
         for k_t in [1e8, 1e10, 1e12] {
             let mut q = p;
             q.k_t = k_t;
-            let ex = common::ExactDahl::new(&q, 1e-3).f_mean_after_periods(2000);
+            let ex = reference::ExactDahl::new(&q, 1e-3).f_mean_after_periods(2000);
             let (fm, t, st) = run(q, 1e-6, path, step);
             println!(
                 "{name}: k_t={k_t:.0e} tol=1e-6: rel.err {:.3e} time {:.3} ms steps {} events {}",

@@ -4,11 +4,13 @@
 //!
 //! cargo run --release --example hostile_probe
 
-use std::path::Path;
+#[path = "../tests/support/scenes.rs"]
+#[allow(dead_code)]
+mod scenes;
+
 use std::time::Instant;
 
-use vibrofric::description::scene::Scene;
-use vibrofric::model::{build, InputId, OutputId};
+use vibrofric::model::{InputId, OutputId, Setup};
 use vibrofric::table::ParamId;
 
 /// A case: its name, what it does to the parameters, and an input to set.
@@ -20,14 +22,7 @@ type Case = (
 
 fn main() {
     let mut rows = vec![];
-    let mut files: Vec<_> = std::fs::read_dir("scenes")
-        .unwrap()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    for file in &files {
-        let sc = Scene::load(Path::new(file)).unwrap();
+    for (_, sc) in scenes::standard_scenes() {
         let mut cases: Vec<Case> = vec![];
         for id in ParamId::ALL {
             if !id.present(&sc.config) || id == ParamId::MaxSteps {
@@ -56,7 +51,7 @@ fn main() {
             for h in [1e-3, 1.0] {
                 let mut p = sc.start;
                 set(&mut p);
-                let mut sim = match build(sc.config, p, 0.0, 1e-6) {
+                let mut sim = match Setup::new(sc.config, p).inputs(sc.inputs).build() {
                     Ok(s) => s,
                     Err(e) => {
                         rows.push((
@@ -66,11 +61,6 @@ fn main() {
                         continue;
                     }
                 };
-                for id in InputId::ALL {
-                    if id.present(&sc.config) {
-                        sim.set_input(id, id.get(&sc.inputs)).unwrap();
-                    }
-                }
                 if let Some((id, v)) = input {
                     sim.set_input(*id, *v).unwrap();
                 }

@@ -9,8 +9,7 @@
 #[path = "report/peers.rs"]
 mod peers;
 
-#[path = "../tests/common/configs.rs"]
-#[allow(dead_code)]
+#[path = "../tests/support/configs.rs"]
 mod configs;
 
 use cpu_time::ThreadTime;

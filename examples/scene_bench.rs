@@ -7,17 +7,15 @@
 //!
 //! cargo run --release --example scene_bench
 
-#[path = "../tests/common/configs.rs"]
-#[allow(dead_code)]
+#[path = "../tests/support/configs.rs"]
 mod configs;
+#[path = "../tests/support/scenes.rs"]
+#[allow(dead_code)]
+mod scenes;
 
-use std::path::Path;
 use std::time::Instant;
 
-use vibrofric::description::scene::Scene;
-use vibrofric::model::{
-    build, Config, Drive, InputId, Inputs, Law, Motion, Path as SolverPath, StepStats,
-};
+use vibrofric::model::{Config, Drive, Inputs, Law, Motion, Path as SolverPath, Setup, StepStats};
 use vibrofric::table::Params;
 
 const RUNS: usize = 9;
@@ -49,12 +47,11 @@ fn timed(
     for _ in 0..runs {
         f_fx.clear();
         let start = Instant::now();
-        let mut sim = build(config, params, 0.0, tol).unwrap();
-        for id in InputId::ALL {
-            if id.present(&config) {
-                sim.set_input(id, id.get(&inputs)).unwrap();
-            }
-        }
+        let mut sim = Setup::new(config, params)
+            .inputs(inputs)
+            .tolerance(tol)
+            .build()
+            .unwrap();
         for k in 1..=n {
             sim.step_to(k as f64 * 1e-3).unwrap();
             f_fx.push(sim.outputs().f_fx);
@@ -96,14 +93,7 @@ fn main() {
     println!("Standard scenes (tolerance 1e-6, communication step 1 ms, median of {RUNS} runs of 0.1 s)\n");
     println!("| scene | path | µs per period | steps per period | rhs evaluations per period |");
     println!("|---|---|---|---|---|");
-    let mut paths: Vec<_> = std::fs::read_dir("scenes")
-        .expect("run from the repository root")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    paths.sort();
-    for p in &paths {
-        let scene = Scene::load(Path::new(p)).unwrap();
+    for (_, scene) in scenes::standard_scenes() {
         row(
             &scene.model_identifier,
             scene.config,
@@ -115,8 +105,7 @@ fn main() {
     println!("\nScenes whose body moves (tolerance 1e-6, 0.1 s): F_Fx error against a tolerance-1e-10 run on the same path, and the cost at k_t = 1e12 against 1e8\n");
     println!("| scene | path | µs per period | steps per period | max F_Fx error / F_C | µs per period at k_t 1e12 | 1e12 / 1e8 |");
     println!("|---|---|---|---|---|---|---|");
-    for p in &paths {
-        let scene = Scene::load(Path::new(p)).unwrap();
+    for (_, scene) in scenes::standard_scenes() {
         if scene.config.drive == Drive::Velocity {
             continue;
         }
@@ -140,7 +129,7 @@ fn main() {
     println!("\nVibratingContact, 1 s at 2 kHz, F_Fx at every 1 ms against tolerance 1e-12 (explicit path) or Radau at its tolerance\n");
     println!("| path | tolerance | µs per period | steps per period | max F_Fx error / F_C |");
     println!("|---|---|---|---|---|");
-    let scene = Scene::load(Path::new("scenes/contact.toml")).unwrap();
+    let scene = scenes::scene("contact.toml");
     let (c, start, inputs) = (scene.config, scene.start, scene.inputs);
     let (_, _, _, reference) = timed(c, start, inputs, 1e-12, 1.0, 1);
     let periods = start.f;

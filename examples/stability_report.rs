@@ -5,14 +5,16 @@
 //!
 //! cargo run --release --example stability_report
 
-#[path = "../tests/common/mod.rs"]
-mod common;
+#[path = "../tests/support/configs.rs"]
+mod configs;
+#[path = "../tests/support/reference.rs"]
+mod reference;
 
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use common::configs::{long_velocity, planar_force};
-use common::ExactDahl;
+use configs::{long_velocity, planar_force};
+use reference::ExactDahl;
 use vibrofric::model::{build, Config, InputId, Law, OutputId};
 use vibrofric::table::Params;
 

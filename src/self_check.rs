@@ -5,9 +5,9 @@ use std::path::Path;
 
 use vibrofric::description::variables::VarKind;
 use vibrofric::description::{xml, Scene};
-use vibrofric::model::{self, InputId, StateId};
+use vibrofric::model::{self, StateId};
 use vibrofric_import::fmi3::Fmu3;
-use vibrofric_import::Fmu;
+use vibrofric_import::{Fmu, Importer};
 
 /// The FMI 3.0 edition through the importer's FMI 3.0 loader, on the steps of [`self_check`]:
 /// its `F_mean` and `reduction` must equal the FMI 2.0 edition's bit for bit.
@@ -44,6 +44,17 @@ pub fn self_check_fmi3(fmu3_path: &Path, fmu2_path: &Path) -> Result<String, Str
     ))
 }
 
+/// The core for a scene as the FMU starts it in its default experiment: its start values and
+/// inputs, at `t0`, tolerance `tol`.
+fn core_at(scene: &Scene, t0: f64, tol: f64) -> Result<Box<dyn model::Simulator>, String> {
+    model::Setup::new(scene.config, scene.start)
+        .inputs(scene.inputs)
+        .start(t0)
+        .tolerance(tol)
+        .build()
+        .map_err(|e| e.to_string())
+}
+
 /// Model Exchange through the exported FMU: the core steps the scene (its start values, the
 /// default tolerance) to a time inside a later window; an instance for Model Exchange, set to
 /// the same time and states, must give the core's derivatives and the Jacobian column of each
@@ -51,13 +62,7 @@ pub fn self_check_fmi3(fmu3_path: &Path, fmu2_path: &Path) -> Result<String, Str
 pub fn self_check_model_exchange(fmu_path: &Path, scene: &Scene) -> Result<String, String> {
     let (t0, _, tol, _) = xml::DEFAULT_EXPERIMENT;
     let t = t0 + 0.0123;
-    let mut sim = model::build(scene.config, scene.start, t0, tol).map_err(|e| e.to_string())?;
-    for i in InputId::ALL {
-        if i.present(&scene.config) {
-            sim.set_input(i, i.get(&scene.inputs))
-                .map_err(|e| e.to_string())?;
-        }
-    }
+    let mut sim = core_at(scene, t0, tol)?;
     sim.step_to(t).map_err(|e| e.to_string())?;
     let states: Vec<StateId> = scene
         .variables()
@@ -160,14 +165,8 @@ pub fn self_check(fmu_path: &Path, scene: &Scene) -> Result<String, String> {
     }
     let reduction = reduction.map_or(String::new(), |r| format!(", reduction = {r:.4}"));
 
-    // The same communication points through the core (as `Fmu::simulate` steps them).
-    let mut sim = model::build(scene.config, scene.start, t0, tol).map_err(|e| e.to_string())?;
-    for i in InputId::ALL {
-        if i.present(&scene.config) {
-            sim.set_input(i, i.get(&scene.inputs))
-                .map_err(|e| e.to_string())?;
-        }
-    }
+    // The same communication points through the core (as `Importer::simulate` steps them).
+    let mut sim = core_at(scene, t0, tol)?;
     let n = ((t1 - t0) / step).round().max(1.0) as u64;
     let mut t = t0;
     for k in 0..n {

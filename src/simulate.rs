@@ -1,4 +1,4 @@
-//! `vibrofric simulate`: a scene run by the core ([`vibrofric::model::build`]) directly, without the FMU layer,
+//! `vibrofric simulate`: a scene run by the core ([`vibrofric::model::Setup`]) directly, without the FMU layer,
 //! printed as CSV. It is the independent reference the Python tests compare fmpy's runs of the
 //! FMU with, and a quick way to look at a scene.
 //!
@@ -81,13 +81,12 @@ pub fn simulate(scene: &Scene, o: &Options) -> Result<String, String> {
             return Err(format!("--set {name}: not a parameter or input name"));
         }
     }
-    let mut sim = model::build(c, params, o.start, o.tolerance).map_err(|e| e.to_string())?;
-    for id in InputId::ALL {
-        if id.present(&c) {
-            sim.set_input(id, id.get(&inputs))
-                .map_err(|e| e.to_string())?;
-        }
-    }
+    let sim = model::Setup::new(c, params)
+        .inputs(inputs)
+        .start(o.start)
+        .tolerance(o.tolerance)
+        .build();
+    let mut sim = sim.map_err(|e| e.to_string())?;
     let mut out = String::from("time");
     for id in &scene.outputs {
         out.push(',');

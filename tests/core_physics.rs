@@ -5,11 +5,11 @@
 // Varying one parameter of the defaults reads best as an assignment.
 #![allow(clippy::field_reassign_with_default)]
 
-mod common;
+mod support;
 
 use std::f64::consts::FRAC_PI_2;
 
-use common::{coulomb_longitudinal, coulomb_transverse, rk4, ExactDahl};
+use support::reference::{coulomb_longitudinal, coulomb_transverse, rk4, ExactDahl};
 use vibrofric::model::{build, Config, Drive, InputId, Lateral, Law, Motion, Outputs, Simulator};
 use vibrofric::table::Params;
 

@@ -2,37 +2,12 @@
 //! last communication step) against the window mean, against stepping the same time in short
 //! steps, and against the body's momentum balance in the force drive.
 
-use std::path::Path as FsPath;
+mod support;
 
+use support::scenes::{scene, start, STANDARD_SCENES};
 use vibrofric::description::scene::Scene;
-use vibrofric::model::{build, Drive, InputId, Simulator};
+use vibrofric::model::{build, Drive, InputId, Setup};
 use vibrofric::table::ParamId;
-
-fn scene(file: &str) -> Scene {
-    Scene::load(FsPath::new("scenes").join(file).as_path()).unwrap()
-}
-
-fn start(scene: &Scene, tol: f64) -> Box<dyn Simulator> {
-    let mut sim = build(scene.config, scene.start, 0.0, tol).unwrap();
-    for id in InputId::ALL {
-        if id.present(&scene.config) {
-            sim.set_input(id, id.get(&scene.inputs)).unwrap();
-        }
-    }
-    sim
-}
-
-const FILES: [&str; 9] = [
-    "contact.toml",
-    "contact-lugre.toml",
-    "contact-dupont.toml",
-    "drill-string-axial.toml",
-    "paper-longitudinal.toml",
-    "paper-transverse.toml",
-    "paper-transverse-guided.toml",
-    "rig-longitudinal.toml",
-    "rig-transverse.toml",
-];
 
 /// A communication step that is the averaging window integrates what `F_mean` integrates: the
 /// two are the same number to rounding; over several windows in periodic steady state, the
@@ -40,7 +15,7 @@ const FILES: [&str; 9] = [
 #[test]
 fn step_mean_over_whole_windows_is_the_window_mean() {
     let tol = 1e-8;
-    for file in FILES {
+    for file in STANDARD_SCENES {
         let sc = scene(file);
         let p = sc.start;
         let window = if sc.config.harmonic {
@@ -211,7 +186,7 @@ fn output_derivatives_match_finite_differences() {
     // 0.37 ms after a step: away from the instants where v_r changes sign.
     let t = 10.0 * h + 3.7e-4;
     let delta = 2e-7;
-    for file in FILES {
+    for file in STANDARD_SCENES {
         let sc = scene(file);
         let c = sc.config;
         let base = |t0: f64| {
@@ -301,7 +276,7 @@ fn with_normal_input(mut sc: Scene) -> Scene {
 #[test]
 fn normal_force_input_held_equals_the_parameter() {
     let tol = 1e-9;
-    for file in FILES {
+    for file in STANDARD_SCENES {
         let sc = scene(file);
         let f_c = sc.start.f_c();
         let s_ss = f_c / sc.start.k_t;
@@ -473,15 +448,15 @@ fn lift_off_and_touch_down_at(tol: f64) {
 #[test]
 fn large_start_times_keep_full_accuracy() {
     let tol = 1e-8;
-    for file in FILES {
+    for file in STANDARD_SCENES {
         let sc = scene(file);
         let run = |t0: f64| {
-            let mut sim = build(sc.config, sc.start, t0, tol).unwrap();
-            for id in InputId::ALL {
-                if id.present(&sc.config) {
-                    sim.set_input(id, id.get(&sc.inputs)).unwrap();
-                }
-            }
+            let mut sim = Setup::new(sc.config, sc.start)
+                .inputs(sc.inputs)
+                .start(t0)
+                .tolerance(tol)
+                .build()
+                .unwrap();
             for k in 1..=100 {
                 sim.step_to(t0 + k as f64 / 1024.0).unwrap();
             }

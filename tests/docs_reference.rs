@@ -13,6 +13,8 @@
 //!   and the diff reviewed.
 //! - Every relative link in `README.md` and `docs/*.md` points to a file of the repository.
 
+mod support;
+
 use std::path::{Path, PathBuf};
 
 use vibrofric::description::Scene;
@@ -27,22 +29,14 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The standard scenes in file-name order, the order `docs/scenes.md` lists them.
 fn standard_scenes() -> Vec<(String, Scene)> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("scenes"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+    let mut v: Vec<(String, Scene)> = support::scenes::standard_scenes()
+        .into_iter()
+        .map(|(f, s)| (f.to_string(), s))
         .collect();
-    files.sort();
-    files
-        .iter()
-        .map(|p| {
-            (
-                p.file_name().unwrap().to_string_lossy().into_owned(),
-                Scene::load(p).unwrap_or_else(|e| panic!("{e}")),
-            )
-        })
-        .collect()
+    v.sort_by(|a, b| a.0.cmp(&b.0));
+    v
 }
 
 /// Compares (or, with UPDATE_DOCS=1, writes) one generated file.

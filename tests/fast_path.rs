@@ -4,33 +4,25 @@
 //! tolerance); the explicit path at 1e-10 against Radau at 1e-12; and a step over a million
 //! vibration periods against stepping them one by one.
 
-use std::path::{Path as FsPath, PathBuf};
+mod support;
 
+use support::scenes::{scene, standard_scenes};
 use vibrofric::description::scene::Scene;
-use vibrofric::model::{build, build_on, InputId, Outputs, Path, Simulator};
+use vibrofric::model::{build, InputId, Outputs, Path, Setup, Simulator};
 
 fn scenes() -> Vec<Scene> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir("scenes")
-        .unwrap()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    paths.sort();
-    paths
-        .iter()
-        .map(|p| Scene::load(FsPath::new(p)).unwrap())
-        .collect()
+    standard_scenes().into_iter().map(|(_, s)| s).collect()
 }
 
 /// Runs `scene` on `path` for 0.05 s (100 periods at 2 kHz) in communication steps of 1 ms,
 /// ramping the drive input over the second half through its derivative when `ramp`.
 fn run(scene: &Scene, path: Path, tol: f64, ramp: bool) -> (Vec<Outputs>, Path) {
-    let mut sim = build_on(scene.config, scene.start, 0.0, tol, path).unwrap();
-    for id in InputId::ALL {
-        if id.present(&scene.config) {
-            sim.set_input(id, id.get(&scene.inputs)).unwrap();
-        }
-    }
+    let mut sim = Setup::new(scene.config, scene.start)
+        .inputs(scene.inputs)
+        .tolerance(tol)
+        .on(path)
+        .build()
+        .unwrap();
     let drive = [InputId::VD, InputId::FD]
         .into_iter()
         .find(|id| id.present(&scene.config));
@@ -173,10 +165,10 @@ fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
 #[test]
 fn a_step_over_a_million_periods_equals_stepping_them() {
     for (file, periods) in [
-        ("scenes/paper-longitudinal.toml", 1_000_000u64),
-        ("scenes/paper-transverse-guided.toml", 20_000),
+        ("paper-longitudinal.toml", 1_000_000u64),
+        ("paper-transverse-guided.toml", 20_000),
     ] {
-        let scene = Scene::load(FsPath::new(file)).unwrap();
+        let scene = scene(file);
         let tol = 1e-8;
         let t_end = periods as f64 / scene.start.f;
         let start = |sim: &mut Box<dyn Simulator>| {

@@ -6,69 +6,21 @@
 //! status is `fmi3Error`, the log line names the function and the rule, and every value reads
 //! as before.
 
-#[allow(unused_macros)]
-mod fmi_harness;
+mod support;
 
-use std::ffi::{c_void, CStr, CString};
+use std::ffi::{c_void, CString};
 use std::os::raw::c_char;
 use std::ptr;
-use std::sync::Mutex;
 
-use fmi_harness::*;
 use libloading::{Library, Symbol};
+use support::fmu::*;
+use support::scenes::*;
 use vibrofric::description::xml;
+use vibrofric_import::fmi3::types::*;
+use vibrofric_import::fmi3::{log_message, Log};
 
 const OK: i32 = 0;
 const ERROR: i32 = 3;
-
-/// The log lines of one instance, reached through its environment pointer.
-type Log = Mutex<Vec<String>>;
-
-unsafe extern "C" fn log_message(
-    env: *mut c_void,
-    _status: i32,
-    _category: *const c_char,
-    message: *const c_char,
-) {
-    let log = &*(env as *const Log);
-    let text = CStr::from_ptr(message).to_string_lossy().into_owned();
-    log.lock().unwrap().push(text);
-}
-
-type Instantiate = unsafe extern "C" fn(
-    *const c_char,
-    *const c_char,
-    *const c_char,
-    bool,
-    bool,
-    bool,
-    bool,
-    *const u32,
-    usize,
-    *mut c_void,
-    Option<unsafe extern "C" fn(*mut c_void, i32, *const c_char, *const c_char)>,
-    *mut c_void,
-) -> *mut c_void;
-type Status0 = unsafe extern "C" fn(*mut c_void) -> i32;
-type EnterInit = unsafe extern "C" fn(*mut c_void, bool, f64, f64, bool, f64) -> i32;
-type GetF64 = unsafe extern "C" fn(*mut c_void, *const u32, usize, *mut f64, usize) -> i32;
-type SetF64 = unsafe extern "C" fn(*mut c_void, *const u32, usize, *const f64, usize) -> i32;
-type DoStep = unsafe extern "C" fn(
-    *mut c_void,
-    f64,
-    f64,
-    bool,
-    *mut bool,
-    *mut bool,
-    *mut bool,
-    *mut f64,
-) -> i32;
-type GetState = unsafe extern "C" fn(*mut c_void, *mut *mut c_void) -> i32;
-type SetState = unsafe extern "C" fn(*mut c_void, *mut c_void) -> i32;
-type StateSize = unsafe extern "C" fn(*mut c_void, *mut c_void, *mut usize) -> i32;
-type Serialize = unsafe extern "C" fn(*mut c_void, *mut c_void, *mut u8, usize) -> i32;
-type Deserialize = unsafe extern "C" fn(*mut c_void, *const u8, usize, *mut *mut c_void) -> i32;
-type GetInt32 = unsafe extern "C" fn(*mut c_void, *const u32, usize, *mut i32, usize) -> i32;
 
 /// One FMI 3.0 instance of a standard scene, with its log.
 struct Fmu3 {
@@ -89,7 +41,8 @@ impl Fmu3 {
         let token = CString::new(xml::guid(&scene)).unwrap();
         let name = CString::new("fmi3-bad").unwrap();
         let inst = unsafe {
-            let f: Symbol<Instantiate> = lib.get(b"fmi3InstantiateCoSimulation").unwrap();
+            let f: Symbol<fmi3InstantiateCoSimulationTYPE> =
+                lib.get(b"fmi3InstantiateCoSimulation").unwrap();
             f(
                 name.as_ptr(),
                 token.as_ptr(),
@@ -102,7 +55,7 @@ impl Fmu3 {
                 0,
                 &*log as *const Log as *mut c_void,
                 Some(log_message),
-                ptr::null_mut(),
+                None,
             )
         };
         assert!(!inst.is_null(), "{:?}", log.lock().unwrap());
@@ -126,13 +79,13 @@ impl Fmu3 {
     fn start(&self) {
         unsafe {
             assert_eq!(
-                self.f::<EnterInit>("fmi3EnterInitializationMode")(
+                self.f::<fmi3EnterInitializationModeTYPE>("fmi3EnterInitializationMode")(
                     self.inst, false, 0.0, 0.0, false, 0.0
                 ),
                 OK
             );
             assert_eq!(
-                self.f::<Status0>("fmi3ExitInitializationMode")(self.inst),
+                self.f::<fmi3InstanceOnlyTYPE>("fmi3ExitInitializationMode")(self.inst),
                 OK
             );
         }
@@ -141,7 +94,7 @@ impl Fmu3 {
     fn step(&self, t: f64, h: f64) -> i32 {
         let (mut a, mut b, mut c, mut last) = (false, false, false, 0.0);
         unsafe {
-            self.f::<DoStep>("fmi3DoStep")(
+            self.f::<fmi3DoStepTYPE>("fmi3DoStep")(
                 self.inst, t, h, false, &mut a, &mut b, &mut c, &mut last,
             )
         }
@@ -150,7 +103,7 @@ impl Fmu3 {
     fn values(&self) -> Vec<u64> {
         let mut v = vec![0.0; self.vrs.len()];
         let s = unsafe {
-            self.f::<GetF64>("fmi3GetFloat64")(
+            self.f::<fmi3GetFloat64TYPE>("fmi3GetFloat64")(
                 self.inst,
                 self.vrs.as_ptr(),
                 self.vrs.len(),
@@ -165,7 +118,7 @@ impl Fmu3 {
     fn get_state(&self) -> *mut c_void {
         let mut s = ptr::null_mut();
         assert_eq!(
-            unsafe { self.f::<GetState>("fmi3GetFMUState")(self.inst, &mut s) },
+            unsafe { self.f::<fmi3GetFMUStateTYPE>("fmi3GetFMUState")(self.inst, &mut s) },
             OK
         );
         s
@@ -173,7 +126,7 @@ impl Fmu3 {
 
     fn set_state(&self, s: *mut c_void) {
         assert_eq!(
-            unsafe { self.f::<SetState>("fmi3SetFMUState")(self.inst, s) },
+            unsafe { self.f::<fmi3SetFMUStateTYPE>("fmi3SetFMUState")(self.inst, s) },
             OK,
             "{}",
             self.last()
@@ -204,8 +157,7 @@ impl Fmu3 {
 impl Drop for Fmu3 {
     fn drop(&mut self) {
         unsafe {
-            let free: Symbol<unsafe extern "C" fn(*mut c_void)> =
-                self.lib.get(b"fmi3FreeInstance").unwrap();
+            let free: Symbol<fmi3FreeInstanceTYPE> = self.lib.get(b"fmi3FreeInstance").unwrap();
             free(self.inst);
         }
     }
@@ -220,8 +172,8 @@ fn every_bad_input_class_of_fmi2_is_refused_by_fmi3_naming_the_rule() {
     let before = fmu.values();
     let t = 1e-3;
     let (k_t, f_d, x) = (vr::K_T, vr::F_D, vr::X);
-    let get: GetF64 = fmu.f("fmi3GetFloat64");
-    let set: SetF64 = fmu.f("fmi3SetFloat64");
+    let get: fmi3GetFloat64TYPE = fmu.f("fmi3GetFloat64");
+    let set: fmi3SetFloat64TYPE = fmu.f("fmi3SetFloat64");
     let inst = fmu.inst;
     unsafe {
         // NULL arrays with nonzero lengths, and nValues ≠ nValueReferences.
@@ -331,32 +283,39 @@ fn every_bad_input_class_of_fmi2_is_refused_by_fmi3_naming_the_rule() {
             &["fmi3ExitInitializationMode", "not allowed in state"],
             state,
             &before,
-            |f| f.f::<Status0>("fmi3ExitInitializationMode")(inst),
+            |f| f.f::<fmi3InstanceOnlyTYPE>("fmi3ExitInitializationMode")(inst),
         );
         // Types this FMU has none of, and what it does not offer.
         fmu.refuses("Int32", &["fmi3GetInt32", "Int32"], state, &before, |f| {
             let mut v = [0i32];
-            f.f::<GetInt32>("fmi3GetInt32")(inst, [k_t].as_ptr(), 1, v.as_mut_ptr(), 1)
+            f.f::<fmi3GetInt32TYPE>("fmi3GetInt32")(inst, [k_t].as_ptr(), 1, v.as_mut_ptr(), 1)
         });
         fmu.refuses(
             "event mode",
             &["fmi3EnterEventMode", "a function of Model Exchange"],
             state,
             &before,
-            |f| f.f::<Status0>("fmi3EnterEventMode")(inst),
+            |f| f.f::<fmi3InstanceOnlyTYPE>("fmi3EnterEventMode")(inst),
         );
         // A corrupted serialized state: one bit flipped, or one byte short.
         let mut size = 0;
         assert_eq!(
-            fmu.f::<StateSize>("fmi3SerializedFMUStateSize")(inst, state, &mut size),
+            fmu.f::<fmi3SerializedFMUStateSizeTYPE>("fmi3SerializedFMUStateSize")(
+                inst, state, &mut size
+            ),
             OK
         );
         let mut bytes = vec![0u8; size];
         assert_eq!(
-            fmu.f::<Serialize>("fmi3SerializeFMUState")(inst, state, bytes.as_mut_ptr(), size),
+            fmu.f::<fmi3SerializeFMUStateTYPE>("fmi3SerializeFMUState")(
+                inst,
+                state,
+                bytes.as_mut_ptr(),
+                size
+            ),
             OK
         );
-        let deserialize: Deserialize = fmu.f("fmi3DeserializeFMUState");
+        let deserialize: fmi3DeserializeFMUStateTYPE = fmu.f("fmi3DeserializeFMUState");
         let mut flipped = bytes.clone();
         flipped[40] ^= 1;
         fmu.refuses(
@@ -396,15 +355,19 @@ fn a_null_instance_returns_error_everywhere() {
     let (mut a, mut b, mut e, mut last) = (false, false, false, 0.0);
     unsafe {
         let statuses = [
-            fmu.f::<EnterInit>("fmi3EnterInitializationMode")(c, false, 0.0, 0.0, false, 0.0),
-            fmu.f::<Status0>("fmi3ExitInitializationMode")(c),
-            fmu.f::<Status0>("fmi3Terminate")(c),
-            fmu.f::<Status0>("fmi3Reset")(c),
-            fmu.f::<GetF64>("fmi3GetFloat64")(c, [201].as_ptr(), 1, v.as_mut_ptr(), 1),
-            fmu.f::<SetF64>("fmi3SetFloat64")(c, [101].as_ptr(), 1, v.as_ptr(), 1),
-            fmu.f::<DoStep>("fmi3DoStep")(c, 0.0, 1e-3, false, &mut a, &mut b, &mut e, &mut last),
-            fmu.f::<GetState>("fmi3GetFMUState")(c, &mut s),
-            fmu.f::<Status0>("fmi3EnterEventMode")(c),
+            fmu.f::<fmi3EnterInitializationModeTYPE>("fmi3EnterInitializationMode")(
+                c, false, 0.0, 0.0, false, 0.0,
+            ),
+            fmu.f::<fmi3InstanceOnlyTYPE>("fmi3ExitInitializationMode")(c),
+            fmu.f::<fmi3InstanceOnlyTYPE>("fmi3Terminate")(c),
+            fmu.f::<fmi3InstanceOnlyTYPE>("fmi3Reset")(c),
+            fmu.f::<fmi3GetFloat64TYPE>("fmi3GetFloat64")(c, [201].as_ptr(), 1, v.as_mut_ptr(), 1),
+            fmu.f::<fmi3SetFloat64TYPE>("fmi3SetFloat64")(c, [101].as_ptr(), 1, v.as_ptr(), 1),
+            fmu.f::<fmi3DoStepTYPE>("fmi3DoStep")(
+                c, 0.0, 1e-3, false, &mut a, &mut b, &mut e, &mut last,
+            ),
+            fmu.f::<fmi3GetFMUStateTYPE>("fmi3GetFMUState")(c, &mut s),
+            fmu.f::<fmi3InstanceOnlyTYPE>("fmi3EnterEventMode")(c),
         ];
         assert!(statuses.iter().all(|&s| s == ERROR), "{statuses:?}");
     }
@@ -415,7 +378,8 @@ fn instantiation_refuses_a_wrong_token_event_mode_and_no_resources() {
     let dir = temp("fmi3-inst");
     let scene = unpack(&dir, &scene_text("contact.toml"));
     let lib = unsafe { Library::new(library()) }.unwrap();
-    let f: Instantiate = unsafe { *lib.get(b"fmi3InstantiateCoSimulation").unwrap() };
+    let f: fmi3InstantiateCoSimulationTYPE =
+        unsafe { *lib.get(b"fmi3InstantiateCoSimulation").unwrap() };
     let resources = CString::new(format!("{}/", dir.join("resources").display())).unwrap();
     let good = CString::new(xml::guid(&scene)).unwrap();
     let bad = CString::new("{not-this-fmu}").unwrap();
@@ -435,7 +399,7 @@ fn instantiation_refuses_a_wrong_token_event_mode_and_no_resources() {
             0,
             env,
             Some(log_message),
-            ptr::null_mut(),
+            None,
         )
     };
     for (token, res, event, says) in [
@@ -458,7 +422,7 @@ fn instantiation_refuses_a_wrong_token_event_mode_and_no_resources() {
     let inst = make(&good, resources.as_ptr(), false);
     assert!(!inst.is_null());
     unsafe {
-        let free: unsafe extern "C" fn(*mut c_void) = *lib.get(b"fmi3FreeInstance").unwrap();
+        let free: fmi3FreeInstanceTYPE = *lib.get(b"fmi3FreeInstance").unwrap();
         free(inst);
     }
 }

@@ -4,11 +4,12 @@
 //! `fmi2Reset` continue bit-for-bit like a run that never saw it.
 
 #[macro_use]
-mod fmi_harness;
+mod support;
 
 use std::ptr;
 
-use fmi_harness::*;
+use support::fmu::*;
+use support::scenes::*;
 use vibrofric_import::{Fmu, Instance, Status};
 
 const H: f64 = 1e-3;

@@ -2,28 +2,26 @@
 //! state machine, status queries, logging, instantiation, and results equal to the core.
 
 #[macro_use]
-mod fmi_harness;
+mod support;
 
-use fmi_harness::*;
+use support::fmu::*;
+use support::scenes::*;
 use vibrofric::description::variables::{Causality, VarKind};
 use vibrofric::description::Scene;
 use vibrofric::model::{self, InputId, Inputs, OutputId, Simulator};
 use vibrofric::table::Params;
-use vibrofric_import::{Functions, Status};
+use vibrofric_import::{Functions, Importer, Status};
 
 const H: f64 = 1e-3;
 
 /// The core as the FMU drives it: built at `t0` with the staged parameters and every input the
 /// scene has.
 fn core(scene: &Scene, params: Params, inputs: Inputs, tol: f64) -> Box<dyn Simulator> {
-    let c = scene.config;
-    let mut sim = model::build(c, params, 0.0, tol).unwrap();
-    for id in InputId::ALL {
-        if id.present(&c) {
-            sim.set_input(id, id.get(&inputs)).unwrap();
-        }
-    }
-    sim
+    model::Setup::new(scene.config, params)
+        .inputs(inputs)
+        .tolerance(tol)
+        .build()
+        .unwrap()
 }
 
 /// Every variable of the scene, read from the core.
@@ -780,17 +778,9 @@ fn spring_drive_reports_f_d_as_an_output_equal_to_the_core() {
 
 #[test]
 fn every_standard_scene_through_the_fmu_equals_the_core() {
-    let mut files: Vec<String> = std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".toml"))
-        .collect();
-    files.sort();
-    assert!(files.len() >= 6, "{files:?}");
-    for file in files {
+    for file in STANDARD_SCENES {
         let what = format!("{file} through the FMU");
         within(60, &what, move || {
-            let file = file.as_str();
             let fmu = load(file, &format!("scene-{file}"));
             let scene = scene(file);
             let vrs = all_vrs(&scene);

@@ -2,9 +2,10 @@
 //! or in a fresh one after serialisation, continues bit-for-bit like the original.
 
 #[macro_use]
-mod fmi_harness;
+mod support;
 
-use fmi_harness::*;
+use support::fmu::*;
+use support::scenes::*;
 use vibrofric::fmi::saved;
 use vibrofric::model::{ContactState, Law};
 use vibrofric_import::Status;
@@ -245,9 +246,6 @@ fn crafted_states_are_refused_field_by_field() {
     ok!(b, b.do_step(H, H));
 }
 
-/// The standard scenes.
-const FILES: [&str; 10] = STANDARD_SCENES;
-
 /// A state saved after a step from a late start time restores, in the same instance and
 /// serialized into a fresh one, and continues bit for bit. The step ends on a window boundary
 /// that the start time's rounding puts a few ulps of the absolute time off it; the check of
@@ -255,7 +253,7 @@ const FILES: [&str; 10] = STANDARD_SCENES;
 /// start and refused it (from start time 16384 s on).
 #[test]
 fn a_state_saved_at_a_late_start_time_restores_and_continues() {
-    for file in FILES {
+    for file in STANDARD_SCENES {
         let fmu = load(file, &format!("state-late-{file}"));
         let vrs = all_vrs(&scene(file));
         for start in [16383.0, 16384.0, 1e5, 1e7] {

@@ -3,9 +3,10 @@
 //! nothing.
 
 #[macro_use]
-mod fmi_harness;
+mod support;
 
-use fmi_harness::*;
+use support::fmu::*;
+use support::scenes::*;
 use vibrofric_import::Fmu;
 
 const H: f64 = 1e-3;

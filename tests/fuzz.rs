@@ -31,18 +31,19 @@
 //! `VIBROFRIC_FUZZ_SLOW=1`):
 //! `VIBROFRIC_FUZZ_CALLS=5000000 VIBROFRIC_FUZZ_SEED=7 cargo test --release --test fuzz -- --nocapture`
 
-#[allow(unused_macros)]
-mod fmi_harness;
+mod support;
 
 use std::time::{Duration, Instant};
 
-use fmi_harness::*;
+use support::fmu::*;
+use support::scenes::*;
 use vibrofric::description::scene::Scene;
 use vibrofric::description::variables::VarKind;
 use vibrofric::description::xml;
 use vibrofric::fmi::saved;
 use vibrofric::fmi::staging::Staged;
-use vibrofric_import::Status;
+use vibrofric_import::fmi3::Fmu3;
+use vibrofric_import::{CoSimulation, Fmu, Importer, Status};
 
 /// xorshift64*: small, seeded, reproducible on every platform.
 struct Rng(u64);
@@ -66,9 +67,6 @@ impl Rng {
 }
 
 const CALL_BOUND: Duration = Duration::from_secs(10);
-
-/// The standard scenes.
-const FILES: [&str; 10] = STANDARD_SCENES;
 
 fn env_u64(name: &str, default: u64) -> u64 {
     std::env::var(name)
@@ -233,17 +231,9 @@ fn staged_of(bytes: Option<Vec<u8>>) -> Option<Staged> {
     Some(s)
 }
 
-/// An FMI 2.0 instance's staged values, read through a saved state: what a refused call must
-/// leave as it was where fmi2GetReal is not allowed.
-fn staged2(inst: &mut vibrofric_import::Instance) -> Option<Staged> {
-    let st = inst.get_state().ok()?;
-    let bytes = inst.serialize_state(&st).ok();
-    inst.free_state(st);
-    staged_of(bytes)
-}
-
-/// The same for an FMI 3.0 instance.
-fn staged3(inst: &mut vibrofric_import::fmi3::Instance3) -> Option<Staged> {
+/// An instance's staged values, read through a saved state: what a refused call must leave as
+/// it was where reading values is not allowed.
+fn staged<I: CoSimulation>(inst: &mut I) -> Option<Staged> {
     let st = inst.get_state().ok()?;
     let bytes = inst.serialize_state(&st).ok();
     inst.free_state(st);
@@ -262,288 +252,405 @@ struct Foreign {
 fn foreign(file: &str, tag: &str) -> Foreign {
     let fmu = load(file, &format!("fuzz-foreign-{tag}-{file}"));
     let fmu3 = load3(file, &format!("fuzz-foreign3-{tag}-{file}"));
-    let bytes2 = |mut i: vibrofric_import::Instance| {
-        i.enter_initialization_mode();
-        i.exit_initialization_mode();
+    fn saved<I: CoSimulation>(mut i: I) -> Vec<u8> {
         let st = i.get_state().unwrap();
         let b = i.serialize_state(&st).unwrap();
         i.free_state(st);
         b
+    }
+    let bytes2 = |mut i: vibrofric_import::Instance| {
+        i.enter_initialization_mode();
+        i.exit_initialization_mode();
+        saved(i)
     };
     let mut c3 = fmu3.instantiate("foreign").unwrap();
     c3.enter_initialization_mode(None, 0.0, None);
     c3.exit_initialization_mode();
-    let st = c3.get_state().unwrap();
-    let cs3 = c3.serialize_state(&st).unwrap();
-    c3.free_state(st);
     Foreign {
         cs2: bytes2(fmu.instantiate("foreign").unwrap()),
         me2: bytes2(fmu.instantiate_model_exchange("foreign").unwrap()),
-        cs3,
+        cs3: saved(c3),
     }
 }
 
-/// Deserializing a state of another interface or edition: refused with fmi2Error, saying so.
-fn refuse_foreign(sc: &Scene, result: Result<(), Status>, message: &str) -> (Status, String) {
-    let s = result.err().unwrap_or(Status::Ok);
+/// One call sequence of a campaign: the instance and what the operations act on.
+struct Seq<'a, F: Importer + 'a> {
+    fmu: &'a F,
+    sc: &'a Scene,
+    fr: &'a Foreign,
+    inst: F::Instance<'a>,
+    rng: Rng,
+    /// The communication point the sequence is at.
+    t: f64,
+    vrs: Vec<u32>,
+    /// Start values of `vrs` (1 where there is none).
+    starts: Vec<f64>,
+    states: Vec<State<'a, F>>,
+    saved: Vec<Vec<u8>>,
+}
+
+type State<'a, F> = <<F as Importer>::Instance<'a> as CoSimulation>::State;
+
+/// What a campaign drives: an edition and interface of every standard scene's FMU.
+struct Campaign<'f, F: Importer + 'static> {
+    fmus: &'f [(F, Scene, Foreign)],
+    instantiate: for<'a> fn(&'a F, &str) -> Result<F::Instance<'a>, vibrofric_import::ImportError>,
+    /// The instance name.
+    name: &'static str,
+    /// Brings a fresh instance (or one just reset) to stepping at `t0`.
+    init: for<'a> fn(&mut F::Instance<'a>, f64),
+    /// The operations drawn from, repeated to weigh them.
+    ops: &'static [u8],
+    /// The operations that change values even when refused (setting a saved state, reset).
+    may_change: &'static [u8],
+}
+
+impl<F: Importer + 'static> Campaign<'_, F> {
+    /// Runs sequences of 1 to 200 calls, each on a fresh instance of a random scene (most
+    /// initialized at a random start time), until `budget` calls are made; `op` makes the call
+    /// of an operation. After every call the oracle checks the invariants; after an error the
+    /// instance is reset (the standard's way out) and may be initialized again. Returns the
+    /// number of calls and the oracle.
+    fn run(
+        &self,
+        budget: u64,
+        mut rng: Rng,
+        mut op: impl for<'a> FnMut(&mut Seq<'a, F>, u8) -> (Status, String),
+    ) -> (u64, Oracle) {
+        let mut calls = 0u64;
+        let mut oracle = Oracle::default();
+        while calls < budget {
+            let (fmu, sc, fr) = &self.fmus[rng.below(self.fmus.len())];
+            let vrs = all_vrs(sc);
+            let starts: Vec<f64> = sc
+                .variables()
+                .map(|v| sc.start_of(v).unwrap_or(1.0))
+                .collect();
+            let mut inst = (self.instantiate)(fmu, self.name).unwrap();
+            let mut t = 0.0;
+            // Most sequences start from a properly initialized instance, so that the stepping
+            // states are explored as much as the refusals.
+            if rng.below(4) != 0 {
+                t = start_time(&mut rng);
+                (self.init)(&mut inst, t);
+            }
+            let mut c = Seq {
+                fmu,
+                sc,
+                fr,
+                inst,
+                rng,
+                t,
+                vrs,
+                starts,
+                states: vec![],
+                saved: vec![],
+            };
+            for _ in 0..c.rng.below(200) + 1 {
+                calls += 1;
+                let before = c.inst.get_f64(&c.vrs).ok();
+                let staged_before = before.is_none().then(|| staged(&mut c.inst)).flatten();
+                let op_k = c.rng.pick(self.ops);
+                let started = Instant::now();
+                let (status, what) = op(&mut c, op_k);
+                let took = started.elapsed();
+                let after = c.inst.get_f64(&c.vrs);
+                let message = c.inst.last_message();
+                let staged_after = staged_before
+                    .is_some()
+                    .then(|| staged(&mut c.inst))
+                    .flatten();
+                oracle.check(
+                    sc,
+                    &what,
+                    // Discard: an evaluation outside the model's domain (Model Exchange).
+                    (
+                        status,
+                        &[Status::Ok, Status::Warning, Status::Discard, Status::Error],
+                    ),
+                    took,
+                    (&c.vrs, &before, &after),
+                    (&staged_before, &staged_after),
+                    self.may_change.contains(&op_k),
+                    &message,
+                );
+                if status == Status::Error {
+                    // The standard's way out of an error.
+                    let s = c.inst.reset();
+                    assert_eq!(
+                        s,
+                        Status::Ok,
+                        "{}: reset after {what}: {}",
+                        sc.model_identifier,
+                        c.inst.last_message()
+                    );
+                    c.t = 0.0;
+                    if c.rng.below(4) != 0 {
+                        c.t = start_time(&mut c.rng);
+                        (self.init)(&mut c.inst, c.t);
+                    }
+                }
+            }
+            for st in std::mem::take(&mut c.states) {
+                c.inst.free_state(st);
+            }
+            rng = c.rng;
+        }
+        (calls, oracle)
+    }
+}
+
+// The operations the campaigns share, written once for both editions.
+
+/// Sets one variable to a value from the edges of its range and beyond, or an unknown value
+/// reference (one of `unknown`).
+fn set_value<F: Importer>(c: &mut Seq<F>, unknown: &[u32]) -> (Status, String) {
+    let k = c.rng.below(c.vrs.len() + 1);
+    let (vr, x) = if k == c.vrs.len() {
+        (c.rng.pick(unknown), 1.0)
+    } else {
+        (c.vrs[k], value(&mut c.rng, c.starts[k]))
+    };
+    (c.inst.set_f64(&[vr], &[x]), format!("set vr {vr} = {x:e}"))
+}
+
+/// A step of one of the sizes `sizes`, from the current point or (one in eight) a wrong one.
+fn do_step<F: Importer>(c: &mut Seq<F>, sizes: &[f64]) -> (Status, String) {
+    let h = c.rng.pick(sizes);
+    let current = if c.rng.below(8) == 0 { c.t + 1.0 } else { c.t };
+    let s = c.inst.do_step(current, h);
+    if s == Status::Ok {
+        c.t = current + h;
+    }
+    (s, format!("do_step {current} {h:e}"))
+}
+
+/// Saves the state and sets it at once: a state just saved restores, whatever the time.
+fn save_state<F: Importer>(c: &mut Seq<F>) -> (Status, String) {
+    match c.inst.get_state() {
+        Ok(st) => {
+            let s = c.inst.set_state(&st);
+            assert_eq!(
+                s,
+                Status::Ok,
+                "{}: a state saved at t = {} does not restore: {}",
+                c.sc.model_identifier,
+                c.t,
+                c.inst.last_message()
+            );
+            c.states.push(st);
+            (Status::Ok, "get state".into())
+        }
+        Err(s) => (s, "get state".into()),
+    }
+}
+
+/// Sets saved state `k`.
+fn set_state<F: Importer>(c: &mut Seq<F>, k: usize) -> (Status, String) {
+    (c.inst.set_state(&c.states[k]), "set state".into())
+}
+
+/// Serializes saved state `k`.
+fn serialize<F: Importer>(c: &mut Seq<F>, k: usize) -> (Status, String) {
+    match c.inst.serialize_state(&c.states[k]) {
+        Ok(b) => {
+            c.saved.push(b);
+            (Status::Ok, "serialize".into())
+        }
+        Err(s) => (s, "serialize".into()),
+    }
+}
+
+/// Deserializes and sets one of the serialized states (there is one), one in `kinds` with a
+/// bit flipped, truncated, or (`kinds` = 4) 8 bytes overwritten at random.
+fn corrupt<F: Importer>(c: &mut Seq<F>, kinds: usize) -> (Status, String) {
+    let mut b = c.saved[c.rng.below(c.saved.len())].clone();
+    match c.rng.below(kinds) {
+        0 => {
+            let i = c.rng.below(b.len());
+            b[i] ^= 1 << c.rng.below(8);
+        }
+        1 => b.truncate(c.rng.below(b.len())),
+        2 if kinds == 4 => {
+            let from = c.rng.below(b.len());
+            let rng = &mut c.rng;
+            b.iter_mut()
+                .skip(from)
+                .take(8)
+                .for_each(|x| *x = rng.next() as u8);
+        }
+        _ => {}
+    }
+    match c.inst.deserialize_state(&b) {
+        Ok(st) => (c.inst.set_state(&st), "deserialize + set".into()),
+        Err(s) => (s, "deserialize".into()),
+    }
+}
+
+/// Deserializing a state of another interface or edition (`a` or `b`): refused with an
+/// error, saying so.
+fn refuse_foreign<F: Importer>(
+    c: &mut Seq<F>,
+    pick: impl Fn(&Foreign) -> [&Vec<u8>; 2],
+) -> (Status, String) {
+    let b = pick(c.fr)[c.rng.below(2)];
+    let r = c
+        .inst
+        .deserialize_state(b)
+        .map(|st| c.inst.free_state(st))
+        .map(|_| ());
+    let message = c.inst.last_message();
+    let s = r.err().unwrap_or(Status::Ok);
     assert_eq!(
         s,
         Status::Error,
         "{}: a state of another interface or edition was accepted",
-        sc.model_identifier
+        c.sc.model_identifier
     );
     assert!(message.contains("restores only into"), "{message}");
     (s, "foreign state".into())
+}
+
+/// Terminates or resets, one in two each.
+fn terminate_or_reset<F: Importer>(c: &mut Seq<F>) -> (Status, String) {
+    if c.rng.below(2) == 0 {
+        (c.inst.terminate(), "terminate".into())
+    } else {
+        c.t = 0.0;
+        (c.inst.reset(), "reset".into())
+    }
+}
+
+/// Reads every value.
+fn get<F: Importer>(c: &mut Seq<F>) -> (Status, String) {
+    (
+        c.inst.get_f64(&c.vrs).map_or_else(|s| s, |_| Status::Ok),
+        "get".into(),
+    )
 }
 
 #[test]
 fn c_api_call_sequences_keep_the_invariants() {
     let budget = env_u64("VIBROFRIC_FUZZ_CALLS", 300_000);
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
-    let fmus: Vec<_> = FILES
+    let fmus: Vec<_> = STANDARD_SCENES
         .iter()
         .map(|f| (load(f, &format!("fuzz-{f}")), scene(f), foreign(f, "cs")))
         .collect();
-    let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
-    let mut calls = 0u64;
-    let mut oracle = Oracle::default();
-    while calls < budget {
-        let (fmu, sc, fr) = &fmus[rng.below(fmus.len())];
-        let vrs = all_vrs(sc);
-        let starts: Vec<f64> = sc
-            .variables()
-            .map(|v| sc.start_of(v).unwrap_or(1.0))
-            .collect();
-        let mut inst = fmu.instantiate("fuzz").unwrap();
-        let mut t = 0.0;
-        // Most sequences start from a properly initialized instance, so that the stepping
-        // states are explored as much as the refusals.
-        let init = |inst: &mut vibrofric_import::Instance, t0: f64| {
+    let campaign = Campaign {
+        fmus: &fmus,
+        instantiate: Fmu::instantiate,
+        name: "fuzz",
+        init: |inst, t0| {
             inst.setup_experiment(Some(1e-6), t0, None);
             inst.enter_initialization_mode();
             inst.exit_initialization_mode();
-        };
-        if rng.below(4) != 0 {
-            t = start_time(&mut rng);
-            init(&mut inst, t);
-        }
-        let mut states = vec![];
-        let mut saved: Vec<Vec<u8>> = vec![];
-        for _ in 0..rng.below(200) + 1 {
-            calls += 1;
-            let before = inst.get_real(&vrs).ok();
-            let staged_before = before.is_none().then(|| staged2(&mut inst)).flatten();
-            // do_step and set_real most often.
-            let op = rng.pick(&[
-                0, 1, 2, 3, 4, 5, 6, 7, 7, 8, 8, 9, 9, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
-            ]);
-            let started = Instant::now();
-            let (status, what) = match op {
-                0 => {
-                    let tol =
-                        rng.pick(&[Some(1e-6), Some(5e-324), Some(1.0), None, Some(f64::NAN)]);
-                    let t0 = match rng.below(2) {
-                        0 => rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]),
-                        _ => start_time(&mut rng),
-                    };
-                    t = t0;
-                    (
-                        inst.setup_experiment(tol, t0, None),
-                        format!("setup {tol:?} {t0}"),
-                    )
-                }
-                1 => (inst.enter_initialization_mode(), "enter init".into()),
-                2 => (inst.exit_initialization_mode(), "exit init".into()),
-                3..=5 => {
-                    let k = rng.below(vrs.len() + 1);
-                    let (vr, x) = if k == vrs.len() {
-                        (rng.pick(&[0u32, 99, 300, u32::MAX]), 1.0)
-                    } else {
-                        (vrs[k], value(&mut rng, starts[k]))
-                    };
-                    (inst.set_real(&[vr], &[x]), format!("set vr {vr} = {x:e}"))
-                }
-                6 => {
-                    let k = rng.below(vrs.len());
-                    let d = value(&mut rng, 1.0);
-                    (
-                        inst.set_real_input_derivatives(&[vrs[k]], &[rng.pick(&[1, 2, 0])], &[d]),
-                        format!("derivative vr {} = {d:e}", vrs[k]),
-                    )
-                }
-                7..=9 => {
-                    let h = rng.pick(&[
-                        1e-3,
-                        1e-4,
-                        1e-2,
-                        1e-6,
-                        0.0,
-                        -1e-3,
-                        f64::NAN,
-                        2.0f64.powi(-10),
-                        5e-4,
-                        1.5e-3,
-                        2.5e-3,
-                    ]);
-                    let current = if rng.below(8) == 0 { t + 1.0 } else { t };
-                    let s = inst.do_step(current, h);
-                    if s == Status::Ok {
-                        t = current + h;
-                    }
-                    (s, format!("do_step {current} {h:e}"))
-                }
-                10 => (
-                    inst.get_real_status(rng.pick(&[2, 0, 7])).0,
-                    "real status".into(),
-                ),
-                11 => match inst.get_state() {
-                    Ok(st) => {
-                        // A state just saved restores, whatever the time.
-                        let s = inst.set_state(&st);
-                        assert_eq!(
-                            s,
-                            Status::Ok,
-                            "{}: a state saved at t = {t} does not restore: {}",
-                            sc.model_identifier,
-                            inst.last_message()
-                        );
-                        states.push(st);
-                        (Status::Ok, "get state".into())
-                    }
-                    Err(s) => (s, "get state".into()),
-                },
-                12 if !states.is_empty() => {
-                    let k = rng.below(states.len());
-                    (inst.set_state(&states[k]), "set state".into())
-                }
-                16 => {
-                    // A function of Model Exchange on a Co-Simulation instance.
-                    let f = fmu.model_exchange.unwrap();
-                    let c = inst.raw();
-                    let mut x = [0.0; 16];
-                    let (code, name) = unsafe {
-                        match rng.below(6) {
-                            0 => ((f.fmi2GetContinuousStates)(c, x.as_mut_ptr(), 1), "states"),
-                            1 => ((f.fmi2GetDerivatives)(c, x.as_mut_ptr(), 1), "derivatives"),
-                            2 => (
-                                (f.fmi2GetEventIndicators)(c, x.as_mut_ptr(), 1),
-                                "indicators",
-                            ),
-                            3 => (
-                                (f.fmi2GetNominalsOfContinuousStates)(c, x.as_mut_ptr(), 1),
-                                "nominals",
-                            ),
-                            4 => ((f.fmi2SetTime)(c, t), "set time"),
-                            _ => ((f.fmi2EnterEventMode)(c), "event mode"),
-                        }
-                    };
-                    let s = vibrofric_import::status(code);
-                    assert_eq!(
-                        s,
-                        Status::Error,
-                        "{}: Model Exchange's {name} on Co-Simulation",
-                        sc.model_identifier
-                    );
-                    (s, format!("Model Exchange {name}"))
-                }
-                17 => {
-                    let b = if rng.below(2) == 0 { &fr.me2 } else { &fr.cs3 };
-                    let r = inst
-                        .deserialize_state(b)
-                        .map(|st| inst.free_state(st))
-                        .map(|_| ());
-                    let m = inst.last_message();
-                    refuse_foreign(sc, r, &m)
-                }
-                13 if !states.is_empty() => {
-                    let k = rng.below(states.len());
-                    match inst.serialize_state(&states[k]) {
-                        Ok(b) => {
-                            saved.push(b);
-                            (Status::Ok, "serialize".into())
-                        }
-                        Err(s) => (s, "serialize".into()),
-                    }
-                }
-                14 if !saved.is_empty() => {
-                    let mut b = saved[rng.below(saved.len())].clone();
-                    match rng.below(4) {
-                        0 => {
-                            let i = rng.below(b.len());
-                            b[i] ^= 1 << rng.below(8);
-                        }
-                        1 => b.truncate(rng.below(b.len())),
-                        2 => {
-                            let from = rng.below(b.len());
-                            b.iter_mut()
-                                .skip(from)
-                                .take(8)
-                                .for_each(|x| *x = rng.next() as u8);
-                        }
-                        _ => {}
-                    }
-                    match inst.deserialize_state(&b) {
-                        Ok(st) => {
-                            let s = inst.set_state(&st);
-                            (s, "deserialize + set".into())
-                        }
-                        Err(s) => (s, "deserialize".into()),
-                    }
-                }
-                15 => {
-                    if rng.below(2) == 0 {
-                        (inst.terminate(), "terminate".into())
-                    } else {
-                        t = 0.0;
-                        (inst.reset(), "reset".into())
-                    }
-                }
-                _ => (
-                    inst.get_real(&vrs).map_or_else(|s| s, |_| Status::Ok),
-                    "get".into(),
-                ),
+        },
+        // do_step and set_real most often.
+        ops: &[
+            0, 1, 2, 3, 4, 5, 6, 7, 7, 8, 8, 9, 9, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
+        ],
+        may_change: &[12, 14, 15],
+    };
+    let rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
+    let (calls, oracle) = campaign.run(budget, rng, |c, op| match op {
+        0 => {
+            let tol = c
+                .rng
+                .pick(&[Some(1e-6), Some(5e-324), Some(1.0), None, Some(f64::NAN)]);
+            let t0 = match c.rng.below(2) {
+                0 => c.rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]),
+                _ => start_time(&mut c.rng),
             };
-            let took = started.elapsed();
-            let after = inst.get_real(&vrs);
-            let message = inst.last_message();
-            let staged_after = staged_before
-                .is_some()
-                .then(|| staged2(&mut inst))
-                .flatten();
-            oracle.check(
-                sc,
-                &what,
-                (
-                    status,
-                    &[Status::Ok, Status::Warning, Status::Discard, Status::Error],
-                ),
-                took,
-                (&vrs, &before, &after),
-                (&staged_before, &staged_after),
-                matches!(op, 12 | 14 | 15),
-                &message,
-            );
-            if status == Status::Error {
-                // The standard's way out of an error.
-                let s = inst.reset();
-                assert_eq!(
-                    s,
-                    Status::Ok,
-                    "{}: reset after {what}: {}",
-                    sc.model_identifier,
-                    inst.last_message()
-                );
-                t = 0.0;
-                if rng.below(4) != 0 {
-                    t = start_time(&mut rng);
-                    init(&mut inst, t);
+            c.t = t0;
+            (
+                c.inst.setup_experiment(tol, t0, None),
+                format!("setup {tol:?} {t0}"),
+            )
+        }
+        1 => (c.inst.enter_initialization_mode(), "enter init".into()),
+        2 => (c.inst.exit_initialization_mode(), "exit init".into()),
+        3..=5 => set_value(c, &[0, 99, 300, u32::MAX]),
+        6 => {
+            let k = c.rng.below(c.vrs.len());
+            let d = value(&mut c.rng, 1.0);
+            let order = c.rng.pick(&[1, 2, 0]);
+            (
+                c.inst
+                    .set_real_input_derivatives(&[c.vrs[k]], &[order], &[d]),
+                format!("derivative vr {} = {d:e}", c.vrs[k]),
+            )
+        }
+        7..=9 => do_step(
+            c,
+            &[
+                1e-3,
+                1e-4,
+                1e-2,
+                1e-6,
+                0.0,
+                -1e-3,
+                f64::NAN,
+                2.0f64.powi(-10),
+                5e-4,
+                1.5e-3,
+                2.5e-3,
+            ],
+        ),
+        10 => (
+            c.inst.get_real_status(c.rng.pick(&[2, 0, 7])).0,
+            "real status".into(),
+        ),
+        11 => save_state(c),
+        12 if !c.states.is_empty() => {
+            let k = c.rng.below(c.states.len());
+            set_state(c, k)
+        }
+        16 => {
+            // A function of Model Exchange on a Co-Simulation instance.
+            let f = c.fmu.model_exchange.unwrap();
+            let raw = c.inst.raw();
+            let mut x = [0.0; 16];
+            let (code, name) = unsafe {
+                match c.rng.below(6) {
+                    0 => (
+                        (f.fmi2GetContinuousStates)(raw, x.as_mut_ptr(), 1),
+                        "states",
+                    ),
+                    1 => (
+                        (f.fmi2GetDerivatives)(raw, x.as_mut_ptr(), 1),
+                        "derivatives",
+                    ),
+                    2 => (
+                        (f.fmi2GetEventIndicators)(raw, x.as_mut_ptr(), 1),
+                        "indicators",
+                    ),
+                    3 => (
+                        (f.fmi2GetNominalsOfContinuousStates)(raw, x.as_mut_ptr(), 1),
+                        "nominals",
+                    ),
+                    4 => ((f.fmi2SetTime)(raw, c.t), "set time"),
+                    _ => ((f.fmi2EnterEventMode)(raw), "event mode"),
                 }
-            }
+            };
+            let s = vibrofric_import::status(code);
+            assert_eq!(
+                s,
+                Status::Error,
+                "{}: Model Exchange's {name} on Co-Simulation",
+                c.sc.model_identifier
+            );
+            (s, format!("Model Exchange {name}"))
         }
-        for st in states {
-            inst.free_state(st);
+        17 => refuse_foreign(c, |f| [&f.me2, &f.cs3]),
+        13 if !c.states.is_empty() => {
+            let k = c.rng.below(c.states.len());
+            serialize(c, k)
         }
-    }
+        14 if !c.saved.is_empty() => corrupt(c, 4),
+        15 => terminate_or_reset(c),
+        _ => get(c),
+    });
     println!("{calls} calls (seed {seed}): {}", oracle.summary());
 }
 
@@ -555,171 +662,57 @@ fn c_api_call_sequences_keep_the_invariants() {
 fn fmi3_call_sequences_keep_the_invariants() {
     let budget = env_u64("VIBROFRIC_FUZZ_CALLS3", 100_000);
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
-    let fmus: Vec<_> = FILES
+    let fmus: Vec<_> = STANDARD_SCENES
         .iter()
         .map(|f| (load3(f, &format!("fuzz3-{f}")), scene(f), foreign(f, "3")))
         .collect();
-    let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 3 | 1);
-    let mut calls = 0u64;
-    let mut oracle = Oracle::default();
-    while calls < budget {
-        let (fmu, sc, fr) = &fmus[rng.below(fmus.len())];
-        let vrs = all_vrs(sc);
-        let starts: Vec<f64> = sc
-            .variables()
-            .map(|v| sc.start_of(v).unwrap_or(1.0))
-            .collect();
-        let mut inst = fmu.instantiate("fuzz3").unwrap();
-        let init = |inst: &mut vibrofric_import::fmi3::Instance3, t0: f64| {
+    let campaign = Campaign {
+        fmus: &fmus,
+        instantiate: Fmu3::instantiate,
+        name: "fuzz3",
+        init: |inst, t0| {
             inst.enter_initialization_mode(Some(1e-6), t0, None);
             inst.exit_initialization_mode();
-        };
-        let mut t = 0.0;
-        if rng.below(4) != 0 {
-            t = start_time(&mut rng);
-            init(&mut inst, t);
-        }
-        let (mut states, mut saved) = (vec![], vec![]);
-        for _ in 0..rng.below(200) + 1 {
-            calls += 1;
-            let before = inst.get_f64(&vrs).ok();
-            let staged_before = before.is_none().then(|| staged3(&mut inst)).flatten();
-            let op = rng.pick(&[0, 1, 2, 2, 3, 3, 3, 4, 5, 6, 7, 8, 2, 3, 9]);
-            let started = Instant::now();
-            let (status, what) = match op {
-                0 => {
-                    let tol = rng.pick(&[Some(1e-6), Some(5e-324), None, Some(f64::NAN)]);
-                    let t0 = match rng.below(2) {
-                        0 => rng.pick(&[0.0, 1e9, f64::NAN]),
-                        _ => start_time(&mut rng),
-                    };
-                    t = t0;
-                    (
-                        inst.enter_initialization_mode(tol, t0, None),
-                        format!("enter init {tol:?} {t0}"),
-                    )
-                }
-                1 => (inst.exit_initialization_mode(), "exit init".into()),
-                2 => {
-                    let k = rng.below(vrs.len() + 1);
-                    let (vr, x) = if k == vrs.len() {
-                        (rng.pick(&[0u32, 99, 300, u32::MAX]), 1.0)
-                    } else {
-                        (vrs[k], value(&mut rng, starts[k]))
-                    };
-                    (inst.set_f64(&[vr], &[x]), format!("set vr {vr} = {x:e}"))
-                }
-                3 => {
-                    let h = rng.pick(&[1e-3, 1e-4, 1e-2, 0.0, -1e-3, f64::NAN, 5e-4, 2.5e-3]);
-                    let current = if rng.below(8) == 0 { t + 1.0 } else { t };
-                    let (s, _) = inst.do_step(current, h);
-                    if s == Status::Ok {
-                        t = current + h;
-                    }
-                    (s, format!("do_step {current} {h:e}"))
-                }
-                4 => match inst.get_state() {
-                    Ok(st) => {
-                        let s = inst.set_state(&st);
-                        assert_eq!(
-                            s,
-                            Status::Ok,
-                            "{}: a state saved at t = {t} does not restore: {}",
-                            sc.model_identifier,
-                            inst.last_message()
-                        );
-                        states.push(st);
-                        (Status::Ok, "get state".into())
-                    }
-                    Err(s) => (s, "get state".into()),
-                },
-                5 if !states.is_empty() => {
-                    let k = rng.below(states.len());
-                    match rng.below(2) {
-                        0 => (inst.set_state(&states[k]), "set state".into()),
-                        _ => match inst.serialize_state(&states[k]) {
-                            Ok(b) => {
-                                saved.push(b);
-                                (Status::Ok, "serialize".into())
-                            }
-                            Err(s) => (s, "serialize".into()),
-                        },
-                    }
-                }
-                6 if !saved.is_empty() => {
-                    let mut b: Vec<u8> = saved[rng.below(saved.len())].clone();
-                    match rng.below(3) {
-                        0 => {
-                            let i = rng.below(b.len());
-                            b[i] ^= 1 << rng.below(8);
-                        }
-                        1 => b.truncate(rng.below(b.len())),
-                        _ => {}
-                    }
-                    match inst.deserialize_state(&b) {
-                        Ok(st) => (inst.set_state(&st), "deserialize + set".into()),
-                        Err(s) => (s, "deserialize".into()),
-                    }
-                }
-                7 => (inst.terminate(), "terminate".into()),
-                9 => {
-                    let b = if rng.below(2) == 0 { &fr.cs2 } else { &fr.me2 };
-                    let r = inst
-                        .deserialize_state(b)
-                        .map(|st| inst.free_state(st))
-                        .map(|_| ());
-                    let m = inst.last_message();
-                    refuse_foreign(sc, r, &m)
-                }
-                8 => {
-                    t = 0.0;
-                    (inst.reset(), "reset".into())
-                }
-                _ => (
-                    inst.get_f64(&vrs).map_or_else(|s| s, |_| Status::Ok),
-                    "get".into(),
-                ),
+        },
+        ops: &[0, 1, 2, 2, 3, 3, 3, 4, 5, 6, 7, 8, 2, 3, 9],
+        may_change: &[5, 6, 8],
+    };
+    let rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 3 | 1);
+    let (calls, oracle) = campaign.run(budget, rng, |c, op| match op {
+        0 => {
+            let tol = c
+                .rng
+                .pick(&[Some(1e-6), Some(5e-324), None, Some(f64::NAN)]);
+            let t0 = match c.rng.below(2) {
+                0 => c.rng.pick(&[0.0, 1e9, f64::NAN]),
+                _ => start_time(&mut c.rng),
             };
-            let took = started.elapsed();
-            let after = inst.get_f64(&vrs);
-            let message = inst.last_message();
-            let staged_after = staged_before
-                .is_some()
-                .then(|| staged3(&mut inst))
-                .flatten();
-            oracle.check(
-                sc,
-                &what,
-                (
-                    status,
-                    &[Status::Ok, Status::Warning, Status::Discard, Status::Error],
-                ),
-                took,
-                (&vrs, &before, &after),
-                (&staged_before, &staged_after),
-                matches!(op, 5 | 6 | 8),
-                &message,
-            );
-            if status == Status::Error {
-                let s = inst.reset();
-                assert_eq!(
-                    s,
-                    Status::Ok,
-                    "{}: reset after {what}: {}",
-                    sc.model_identifier,
-                    inst.last_message()
-                );
-                t = 0.0;
-                if rng.below(4) != 0 {
-                    t = start_time(&mut rng);
-                    init(&mut inst, t);
-                }
+            c.t = t0;
+            (
+                c.inst.enter_initialization_mode(tol, t0, None),
+                format!("enter init {tol:?} {t0}"),
+            )
+        }
+        1 => (c.inst.exit_initialization_mode(), "exit init".into()),
+        2 => set_value(c, &[0, 99, 300, u32::MAX]),
+        3 => do_step(c, &[1e-3, 1e-4, 1e-2, 0.0, -1e-3, f64::NAN, 5e-4, 2.5e-3]),
+        4 => save_state(c),
+        5 if !c.states.is_empty() => {
+            let k = c.rng.below(c.states.len());
+            match c.rng.below(2) {
+                0 => set_state(c, k),
+                _ => serialize(c, k),
             }
         }
-        for st in states {
-            inst.free_state(st);
+        6 if !c.saved.is_empty() => corrupt(c, 3),
+        7 => (c.inst.terminate(), "terminate".into()),
+        9 => refuse_foreign(c, |f| [&f.cs2, &f.me2]),
+        8 => {
+            c.t = 0.0;
+            (c.inst.reset(), "reset".into())
         }
-    }
+        _ => get(c),
+    });
     println!("FMI 3.0: {calls} calls (seed {seed}): {}", oracle.summary());
 }
 
@@ -728,12 +721,7 @@ fn mutated_scenes_never_panic_and_accepted_ones_export_well_formed_xml() {
     let budget = env_u64("VIBROFRIC_FUZZ_SCENES", 4_000);
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
     let mut rng = Rng(seed.wrapping_mul(0xd1b5_4a32_d192_ed03) | 1);
-    let texts: Vec<String> = std::fs::read_dir("scenes")
-        .unwrap()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .map(|p| std::fs::read_to_string(p).unwrap())
-        .collect();
+    let texts: Vec<String> = STANDARD_SCENES.iter().map(|f| scene_text(f)).collect();
     const INSERTS: [&str; 12] = [
         "\u{0}",
         "\u{1f}",
@@ -798,297 +786,182 @@ fn mutated_scenes_never_panic_and_accepted_ones_export_well_formed_xml() {
 fn model_exchange_call_sequences_keep_the_invariants() {
     let budget = env_u64("VIBROFRIC_FUZZ_CALLS_ME", 100_000);
     let seed = env_u64("VIBROFRIC_FUZZ_SEED", 1);
-    let fmus: Vec<_> = FILES
+    let fmus: Vec<_> = STANDARD_SCENES
         .iter()
         .map(|f| (load(f, &format!("fuzz-me-{f}")), scene(f), foreign(f, "me")))
         .collect();
-    let mut rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 3);
-    let mut calls = 0u64;
-    let mut oracle = Oracle::default();
-    while calls < budget {
-        let (fmu, sc, fr) = &fmus[rng.below(fmus.len())];
-        let vrs = all_vrs(sc);
-        let starts: Vec<f64> = sc
-            .variables()
-            .map(|v| sc.start_of(v).unwrap_or(1.0))
-            .collect();
-        let nx = sc
-            .variables()
-            .filter(|v| matches!(v.kind, VarKind::State(_)))
-            .count();
-        let ni = sc.config.event_indicators();
-        let mut inst = fmu.instantiate_model_exchange("fuzz-me").unwrap();
-        let mut t = 0.0;
-        let init = |inst: &mut vibrofric_import::Instance, t0: f64| {
+    let campaign = Campaign {
+        fmus: &fmus,
+        instantiate: Fmu::instantiate_model_exchange,
+        name: "fuzz-me",
+        init: |inst, t0| {
             inst.setup_experiment(Some(1e-6), t0, None);
             inst.enter_initialization_mode();
             inst.exit_initialization_mode();
             inst.new_discrete_states();
             inst.enter_continuous_time_mode();
-        };
-        if rng.below(4) != 0 {
-            t = start_time(&mut rng);
-            init(&mut inst, t);
-        }
-        let mut states = vec![];
-        let mut saved: Vec<Vec<u8>> = vec![];
-        for _ in 0..rng.below(200) + 1 {
-            calls += 1;
-            let before = inst.get_real(&vrs).ok();
-            let staged_before = before.is_none().then(|| staged2(&mut inst)).flatten();
-            let op = rng.pick(&[
-                0, 1, 2, 3, 4, 5, 6, 6, 7, 7, 8, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
-            ]);
-            let started = Instant::now();
-            let (status, what) = match op {
-                0 => {
-                    let t0 = match rng.below(2) {
-                        0 => rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]),
-                        _ => start_time(&mut rng),
-                    };
-                    t = t0;
-                    (
-                        inst.setup_experiment(Some(1e-6), t0, None),
-                        format!("setup {t0}"),
-                    )
-                }
-                1 => (inst.enter_initialization_mode(), "enter init".into()),
-                2 => (inst.exit_initialization_mode(), "exit init".into()),
-                3 => {
-                    let k = rng.below(vrs.len() + 1);
-                    let (vr, x) = if k == vrs.len() {
-                        (rng.pick(&[0u32, 99, 301, 401, 501, u32::MAX]), 1.0)
-                    } else {
-                        (vrs[k], value(&mut rng, starts[k]))
-                    };
-                    (inst.set_real(&[vr], &[x]), format!("set vr {vr} = {x:e}"))
-                }
-                4 => (inst.new_discrete_states().0, "event update".into()),
-                5 => match rng.below(3) {
-                    0 => (inst.enter_continuous_time_mode(), "continuous time".into()),
-                    1 => (inst.enter_event_mode(), "event mode".into()),
-                    _ => (inst.completed_integrator_step(), "completed step".into()),
-                },
-                6 => {
-                    let far = 5e-4 * 10f64.powf(4.0 * rng.unit());
-                    let next = rng.pick(&[
-                        t + 1e-5,
-                        t + 2.5e-4,
-                        t + 1e-3,
-                        t - 1e-4,
-                        // Anywhere within or beyond the window in progress, before it.
-                        t + far,
-                        t - far,
-                        1e300,
-                        -1e300,
-                        f64::NAN,
-                        f64::INFINITY,
-                    ]);
-                    let s = inst.set_time(next);
-                    if s == Status::Ok {
-                        t = next;
-                    }
-                    (s, format!("set time {next:e}"))
-                }
-                7 => {
-                    let n = if rng.below(10) == 0 { nx + 1 } else { nx };
-                    // Near the trajectory, at the edges, or far from any trajectory.
-                    let x: Vec<f64> = (0..n)
-                        .map(|_| match rng.below(4) {
-                            0 => rng.pick(&EDGES),
-                            1 => 10f64.powf(-8.0 + 10.0 * rng.unit()) * rng.pick(&[1.0, -1.0]),
-                            _ => 1e-7 * (rng.unit() - 0.5),
-                        })
-                        .collect();
-                    (inst.set_continuous_states(&x), format!("set states {x:?}"))
-                }
-                8 => {
-                    let n = if rng.below(10) == 0 { nx + 1 } else { nx };
-                    match inst.get_derivatives(n) {
-                        Ok(d) => {
-                            assert!(
-                                d.iter().all(|x| x.is_finite()),
-                                "{}: derivatives {d:?} with fmi2OK",
-                                sc.model_identifier
-                            );
-                            (Status::Ok, "derivatives".into())
-                        }
-                        Err(s) => (s, "derivatives".into()),
-                    }
-                }
-                9 => {
-                    let n = if rng.below(10) == 0 { ni + 1 } else { ni };
-                    match inst.get_event_indicators(n) {
-                        Ok(z) => {
-                            assert!(
-                                z.iter().all(|x| x.is_finite()),
-                                "{}: event indicators {z:?} with fmi2OK",
-                                sc.model_identifier
-                            );
-                            (Status::Ok, "event indicators".into())
-                        }
-                        Err(s) => (s, "event indicators".into()),
-                    }
-                }
-                10 => {
-                    let pick = |rng: &mut Rng| {
-                        if rng.below(6) == 0 {
-                            rng.pick(&[0u32, 99, u32::MAX])
-                        } else {
-                            vrs[rng.below(vrs.len())]
-                        }
-                    };
-                    let (u, k) = (pick(&mut rng), pick(&mut rng));
-                    let seed = value(&mut rng, 1.0);
-                    match inst.get_directional_derivative(&[u], &[k], &[seed]) {
-                        Ok(d) => {
-                            assert!(
-                                d[0].is_finite(),
-                                "{}: d {u}/d {k} = {}",
-                                sc.model_identifier,
-                                d[0]
-                            );
-                            (Status::Ok, format!("directional {u} {k}"))
-                        }
-                        Err(s) => (s, format!("directional {u} {k}")),
-                    }
-                }
-                11 => match inst.get_state() {
-                    Ok(st) => {
-                        let s = inst.set_state(&st);
-                        assert_eq!(
-                            s,
-                            Status::Ok,
-                            "{}: a state saved at t = {t} does not restore: {}",
-                            sc.model_identifier,
-                            inst.last_message()
-                        );
-                        states.push(st);
-                        (Status::Ok, "get state".into())
-                    }
-                    Err(s) => (s, "get state".into()),
-                },
-                12 if !states.is_empty() => {
-                    let k = rng.below(states.len());
-                    (inst.set_state(&states[k]), "set state".into())
-                }
-                13 if !states.is_empty() => {
-                    let k = rng.below(states.len());
-                    match inst.serialize_state(&states[k]) {
-                        Ok(b) => {
-                            saved.push(b);
-                            (Status::Ok, "serialize".into())
-                        }
-                        Err(s) => (s, "serialize".into()),
-                    }
-                }
-                14 if !saved.is_empty() => {
-                    let mut b = saved[rng.below(saved.len())].clone();
-                    match rng.below(3) {
-                        0 => {
-                            let i = rng.below(b.len());
-                            b[i] ^= 1 << rng.below(8);
-                        }
-                        1 => b.truncate(rng.below(b.len())),
-                        _ => {}
-                    }
-                    match inst.deserialize_state(&b) {
-                        Ok(st) => (inst.set_state(&st), "deserialize + set".into()),
-                        Err(s) => (s, "deserialize".into()),
-                    }
-                }
-                15 => {
-                    if rng.below(2) == 0 {
-                        (inst.terminate(), "terminate".into())
-                    } else {
-                        t = 0.0;
-                        (inst.reset(), "reset".into())
-                    }
-                }
-                16 => {
-                    // A function of Co-Simulation on a Model Exchange instance.
-                    let (s, name) = match rng.below(5) {
-                        0 => (inst.do_step(t, 1e-3), "do_step"),
-                        1 => (
-                            inst.set_real_input_derivatives(
-                                &[vrs[rng.below(vrs.len())]],
-                                &[1],
-                                &[1.0],
-                            ),
-                            "input derivative",
-                        ),
-                        2 => (inst.get_real_status(2).0, "real status"),
-                        3 => (inst.get_boolean_status(3).0, "boolean status"),
-                        _ => (
-                            vibrofric_import::status(unsafe {
-                                (fmu.functions.fmi2CancelStep)(inst.raw())
-                            }),
-                            "cancel step",
-                        ),
-                    };
-                    assert_eq!(
-                        s,
-                        Status::Error,
-                        "{}: Co-Simulation's {name} on Model Exchange",
-                        sc.model_identifier
-                    );
-                    (s, format!("Co-Simulation {name}"))
-                }
-                17 => {
-                    let b = if rng.below(2) == 0 { &fr.cs2 } else { &fr.cs3 };
-                    let r = inst
-                        .deserialize_state(b)
-                        .map(|st| inst.free_state(st))
-                        .map(|_| ());
-                    let m = inst.last_message();
-                    refuse_foreign(sc, r, &m)
-                }
-                _ => (
-                    inst.get_real(&vrs).map_or_else(|s| s, |_| Status::Ok),
-                    "get".into(),
-                ),
-            };
-            let took = started.elapsed();
-            let after = inst.get_real(&vrs);
-            let message = inst.last_message();
-            let staged_after = staged_before
-                .is_some()
-                .then(|| staged2(&mut inst))
-                .flatten();
-            oracle.check(
-                sc,
-                &what,
-                // Discard: an evaluation outside the model's domain.
+        },
+        ops: &[
+            0, 1, 2, 3, 4, 5, 6, 6, 7, 7, 8, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
+        ],
+        may_change: &[12, 14, 15],
+    };
+    let rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 3);
+    let (calls, oracle) = campaign.run(budget, rng, |c, op| {
+        let nx =
+            c.sc.variables()
+                .filter(|v| matches!(v.kind, VarKind::State(_)))
+                .count();
+        let ni = c.sc.config.event_indicators();
+        let sc = c.sc;
+        let id = &sc.model_identifier;
+        match op {
+            0 => {
+                let t0 = match c.rng.below(2) {
+                    0 => c.rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]),
+                    _ => start_time(&mut c.rng),
+                };
+                c.t = t0;
                 (
-                    status,
-                    &[Status::Ok, Status::Warning, Status::Discard, Status::Error],
+                    c.inst.setup_experiment(Some(1e-6), t0, None),
+                    format!("setup {t0}"),
+                )
+            }
+            1 => (c.inst.enter_initialization_mode(), "enter init".into()),
+            2 => (c.inst.exit_initialization_mode(), "exit init".into()),
+            3 => set_value(c, &[0, 99, 301, 401, 501, u32::MAX]),
+            4 => (c.inst.new_discrete_states().0, "event update".into()),
+            5 => match c.rng.below(3) {
+                0 => (
+                    c.inst.enter_continuous_time_mode(),
+                    "continuous time".into(),
                 ),
-                took,
-                (&vrs, &before, &after),
-                (&staged_before, &staged_after),
-                matches!(op, 12 | 14 | 15),
-                &message,
-            );
-            if status == Status::Error {
-                let s = inst.reset();
-                assert_eq!(
-                    s,
-                    Status::Ok,
-                    "{}: reset after {what}: {}",
-                    sc.model_identifier,
-                    inst.last_message()
-                );
-                t = 0.0;
-                if rng.below(4) != 0 {
-                    t = start_time(&mut rng);
-                    init(&mut inst, t);
+                1 => (c.inst.enter_event_mode(), "event mode".into()),
+                _ => (c.inst.completed_integrator_step(), "completed step".into()),
+            },
+            6 => {
+                let t = c.t;
+                let far = 5e-4 * 10f64.powf(4.0 * c.rng.unit());
+                let next = c.rng.pick(&[
+                    t + 1e-5,
+                    t + 2.5e-4,
+                    t + 1e-3,
+                    t - 1e-4,
+                    // Anywhere within or beyond the window in progress, before it.
+                    t + far,
+                    t - far,
+                    1e300,
+                    -1e300,
+                    f64::NAN,
+                    f64::INFINITY,
+                ]);
+                let s = c.inst.set_time(next);
+                if s == Status::Ok {
+                    c.t = next;
+                }
+                (s, format!("set time {next:e}"))
+            }
+            7 => {
+                let n = if c.rng.below(10) == 0 { nx + 1 } else { nx };
+                // Near the trajectory, at the edges, or far from any trajectory.
+                let x: Vec<f64> = (0..n)
+                    .map(|_| match c.rng.below(4) {
+                        0 => c.rng.pick(&EDGES),
+                        1 => 10f64.powf(-8.0 + 10.0 * c.rng.unit()) * c.rng.pick(&[1.0, -1.0]),
+                        _ => 1e-7 * (c.rng.unit() - 0.5),
+                    })
+                    .collect();
+                (
+                    c.inst.set_continuous_states(&x),
+                    format!("set states {x:?}"),
+                )
+            }
+            8 => {
+                let n = if c.rng.below(10) == 0 { nx + 1 } else { nx };
+                match c.inst.get_derivatives(n) {
+                    Ok(d) => {
+                        assert!(
+                            d.iter().all(|x| x.is_finite()),
+                            "{id}: derivatives {d:?} with fmi2OK",
+                        );
+                        (Status::Ok, "derivatives".into())
+                    }
+                    Err(s) => (s, "derivatives".into()),
                 }
             }
+            9 => {
+                let n = if c.rng.below(10) == 0 { ni + 1 } else { ni };
+                match c.inst.get_event_indicators(n) {
+                    Ok(z) => {
+                        assert!(
+                            z.iter().all(|x| x.is_finite()),
+                            "{id}: event indicators {z:?} with fmi2OK",
+                        );
+                        (Status::Ok, "event indicators".into())
+                    }
+                    Err(s) => (s, "event indicators".into()),
+                }
+            }
+            10 => {
+                let pick = |rng: &mut Rng, vrs: &[u32]| {
+                    if rng.below(6) == 0 {
+                        rng.pick(&[0u32, 99, u32::MAX])
+                    } else {
+                        vrs[rng.below(vrs.len())]
+                    }
+                };
+                let (u, k) = (pick(&mut c.rng, &c.vrs), pick(&mut c.rng, &c.vrs));
+                let seed = value(&mut c.rng, 1.0);
+                match c.inst.get_directional_derivative(&[u], &[k], &[seed]) {
+                    Ok(d) => {
+                        assert!(d[0].is_finite(), "{id}: d {u}/d {k} = {}", d[0]);
+                        (Status::Ok, format!("directional {u} {k}"))
+                    }
+                    Err(s) => (s, format!("directional {u} {k}")),
+                }
+            }
+            11 => save_state(c),
+            12 if !c.states.is_empty() => {
+                let k = c.rng.below(c.states.len());
+                set_state(c, k)
+            }
+            13 if !c.states.is_empty() => {
+                let k = c.rng.below(c.states.len());
+                serialize(c, k)
+            }
+            14 if !c.saved.is_empty() => corrupt(c, 3),
+            15 => terminate_or_reset(c),
+            16 => {
+                // A function of Co-Simulation on a Model Exchange instance.
+                let (s, name) = match c.rng.below(5) {
+                    0 => (c.inst.do_step(c.t, 1e-3), "do_step"),
+                    1 => {
+                        let vr = c.vrs[c.rng.below(c.vrs.len())];
+                        (
+                            c.inst.set_real_input_derivatives(&[vr], &[1], &[1.0]),
+                            "input derivative",
+                        )
+                    }
+                    2 => (c.inst.get_real_status(2).0, "real status"),
+                    3 => (c.inst.get_boolean_status(3).0, "boolean status"),
+                    _ => (
+                        vibrofric_import::status(unsafe {
+                            (c.fmu.functions.fmi2CancelStep)(c.inst.raw())
+                        }),
+                        "cancel step",
+                    ),
+                };
+                assert_eq!(
+                    s,
+                    Status::Error,
+                    "{id}: Co-Simulation's {name} on Model Exchange",
+                );
+                (s, format!("Co-Simulation {name}"))
+            }
+            17 => refuse_foreign(c, |f| [&f.cs2, &f.cs3]),
+            _ => get(c),
         }
-        for st in states {
-            inst.free_state(st);
-        }
-    }
+    });
     println!(
         "Model Exchange: {calls} calls (seed {seed}): {}",
         oracle.summary()

@@ -3,29 +3,12 @@
 //! can be counted likewise; values outside their accepted range are refused naming the rule;
 //! tolerances are clamped to the range the integrators resolve.
 
-#[allow(unused_macros)]
-mod fmi_harness;
+mod support;
 
-use std::path::Path as FsPath;
-
-use vibrofric::description::scene::Scene;
-use vibrofric::model::{build, InputId, OutputId, SimError, Simulator, TOLERANCE_RANGE};
+use support::scenes::{scene, standard_scenes, start, STANDARD_SCENES};
+use vibrofric::model::{build, InputId, OutputId, SimError, TOLERANCE_RANGE};
 use vibrofric::solver::SolverError;
 use vibrofric::table::ParamId;
-
-fn scene(file: &str) -> Scene {
-    Scene::load(FsPath::new("scenes").join(file).as_path()).unwrap()
-}
-
-fn start(sc: &Scene, tol: f64) -> Box<dyn Simulator> {
-    let mut sim = build(sc.config, sc.start, 0.0, tol).unwrap();
-    for id in InputId::ALL {
-        if id.present(&sc.config) {
-            sim.set_input(id, id.get(&sc.inputs)).unwrap();
-        }
-    }
-    sim
-}
 
 #[test]
 fn a_step_beyond_max_steps_stops_and_changes_nothing() {
@@ -136,7 +119,7 @@ fn tolerances_are_clamped_to_what_the_integrators_resolve() {
 /// inside a character (it panicked), each with a log line.
 #[test]
 fn instantiate_refuses_with_a_log_line() {
-    let fmu = fmi_harness::load("contact.toml", "instantiate-refusals");
+    let fmu = support::fmu::load("contact.toml", "instantiate-refusals");
     let guid = fmu.description.guid.clone();
     let uri = fmu.resource_uri();
     for (name, location, why) in [
@@ -158,7 +141,7 @@ fn instantiate_refuses_with_a_log_line() {
 /// derivative, and a relaxation rate `|v_r|/s_ss` that overflowed to a NaN derivative.
 #[test]
 fn accepted_values_at_the_edges_of_floating_point_evaluate() {
-    use fmi_harness::{all_vrs, load, started, vr};
+    use support::fmu::{all_vrs, load, started, vr};
     use vibrofric_import::Status;
     let cases: [(&str, &[(u32, f64)]); 12] = [
         ("drill-string-axial.toml", &[(vr::F_N, 1.5e-323)]),
@@ -225,22 +208,16 @@ fn accepted_values_at_the_edges_of_floating_point_evaluate() {
 #[test]
 fn reduction_is_offered_only_under_the_velocity_drive() {
     use vibrofric::table::{Drive, OutputId};
-    for file in std::fs::read_dir("scenes").unwrap() {
-        let path = file.unwrap().path();
-        if path.extension().is_none_or(|x| x != "toml") {
-            continue;
-        }
-        let sc = Scene::load(&path).unwrap();
+    for (file, sc) in standard_scenes() {
         assert_eq!(
             sc.outputs.contains(&OutputId::Reduction),
             sc.config.drive == Drive::Velocity,
-            "{}",
-            path.display()
+            "{file}"
         );
     }
-    let fmu = fmi_harness::load("contact.toml", "no-reduction");
-    let mut i = fmi_harness::started(&fmu, "r", &[(fmi_harness::vr::U0, 0.0)]);
-    assert!(i.get_real(&[fmi_harness::vr::REDUCTION]).is_err());
+    let fmu = support::fmu::load("contact.toml", "no-reduction");
+    let mut i = support::fmu::started(&fmu, "r", &[(support::fmu::vr::U0, 0.0)]);
+    assert!(i.get_real(&[support::fmu::vr::REDUCTION]).is_err());
     assert!(
         i.last_message().contains("is not a variable of this FMU"),
         "{}",
@@ -255,10 +232,10 @@ fn reduction_is_offered_only_under_the_velocity_drive() {
 /// refused, or evaluate absurd values with fmi2OK.
 #[test]
 fn model_exchange_states_far_from_any_trajectory_are_discarded() {
-    use fmi_harness::{all_vrs, bits, load, vr};
+    use support::fmu::{all_vrs, bits, load, vr};
     use vibrofric::description::variables::VarKind;
     use vibrofric_import::Status;
-    for file in fmi_harness::STANDARD_SCENES {
+    for file in STANDARD_SCENES {
         let sc = scene(file);
         let vrs = all_vrs(&sc);
         let nx = sc
@@ -318,7 +295,7 @@ fn model_exchange_states_far_from_any_trajectory_are_discarded() {
 /// values with fmi2OK (`P_diss` off by 1e63) or failing with fmi2Error.
 #[test]
 fn an_unstable_importer_integration_is_discarded_within_a_few_steps() {
-    use fmi_harness::{load, vr};
+    use support::fmu::{load, vr};
     use vibrofric::description::variables::VarKind;
     use vibrofric_import::Status;
     for file in [

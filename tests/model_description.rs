@@ -17,6 +17,9 @@ use quick_xml::events::Event;
 use quick_xml::Reader;
 use quick_xml::XmlVersion;
 
+mod support;
+
+use support::scenes::{scene, standard_scenes as scenes, standard_scenes_are_the_scene_folder};
 use vibrofric::description::variables::VARIABLES;
 use vibrofric::description::{xml, Scene};
 
@@ -27,45 +30,11 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-fn scene_files() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("scenes"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    v
-}
-
-fn scenes() -> Vec<(String, Scene)> {
-    scene_files()
-        .iter()
-        .map(|p| {
-            (
-                p.file_name().unwrap().to_string_lossy().into_owned(),
-                Scene::load(p).unwrap_or_else(|e| panic!("{e}")),
-            )
-        })
-        .collect()
-}
-
-fn scene(file: &str) -> Scene {
-    Scene::load(&root().join("scenes").join(file)).unwrap_or_else(|e| panic!("{e}"))
-}
-
+/// The one list of standard scenes names every file of `scenes/`, and the default scene is
+/// the one the documentation names.
 #[test]
 fn standard_scenes_exist() {
-    let names: Vec<String> = scenes().into_iter().map(|(f, _)| f).collect();
-    for f in [
-        "contact.toml",
-        "contact-lugre.toml",
-        "contact-dupont.toml",
-        "paper-longitudinal.toml",
-        "paper-transverse.toml",
-        "drill-string-axial.toml",
-    ] {
-        assert!(names.iter().any(|n| n == f), "scenes/{f} missing");
-    }
+    standard_scenes_are_the_scene_folder();
     assert_eq!(
         scene("contact.toml").model_identifier,
         "VibratingContact",
@@ -885,15 +854,10 @@ fn perturbed(x: f64) -> [f64; 3] {
 #[test]
 fn initial_unknown_dependencies_hold_in_the_core() {
     use vibrofric::description::variables::VarKind;
-    use vibrofric::model::build;
+    use vibrofric::model::Setup;
     for (file, s) in scenes() {
         let at_start = |params: vibrofric::table::Params, inputs: vibrofric::model::Inputs| {
-            let mut sim = build(s.config, params, 0.0, 1e-6).unwrap();
-            for i in vibrofric::model::InputId::ALL {
-                if i.present(&s.config) {
-                    sim.set_input(i, i.get(&inputs)).unwrap();
-                }
-            }
+            let sim = Setup::new(s.config, params).inputs(inputs).build().unwrap();
             output_values(&s, &sim.outputs())
         };
         let base = at_start(s.start, s.inputs);

@@ -5,10 +5,10 @@
 // Varying one parameter of the defaults reads best as an assignment.
 #![allow(clippy::field_reassign_with_default)]
 
-mod common;
+mod support;
 
-use common::configs::{long_velocity, planar_force};
-use common::ExactDahl;
+use support::configs::{long_velocity, planar_force};
+use support::reference::ExactDahl;
 use vibrofric::model::{build, Config, Drive, InputId, Law, OutputId, Simulator};
 use vibrofric::table::Params;
 

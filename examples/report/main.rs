@@ -43,10 +43,10 @@
 //! compared on both; force-driven ones on `F_Fx` alone (in periodic motion `F_mean` equals `F_d`).
 //! Before measuring, the Jacobian the peers get is checked against central differences.
 
-#[path = "../../tests/common/mod.rs"]
-mod common;
 mod peers;
 mod plot;
+#[path = "../../tests/support/reference.rs"]
+mod reference;
 mod summary;
 
 use std::fmt::Write as _;
@@ -56,7 +56,7 @@ use std::time::Instant;
 use cpu_time::ThreadTime;
 
 use vibrofric::description::Scene;
-use vibrofric::model::{build, canonical_time, Config, Drive, InputId, Law, Motion, Simulator};
+use vibrofric::model::{canonical_time, Config, Drive, InputId, Law, Motion, Setup, Simulator};
 use vibrofric::table::{ParamId, Params};
 
 /// Spacing of the `F_Fx` samples: five per period at 2 kHz.
@@ -134,13 +134,11 @@ impl Case {
 
     /// A simulator at `t = 0` with the scene's inputs.
     fn simulator(&self, tol: f64) -> Box<dyn Simulator> {
-        let mut sim = build(self.config(), self.params, 0.0, tol).expect("valid case");
-        for id in InputId::ALL {
-            if id.present(&self.config()) {
-                sim.set_input(id, id.get(&self.scene.inputs)).unwrap();
-            }
-        }
-        sim
+        Setup::new(self.config(), self.params)
+            .inputs(self.scene.inputs)
+            .tolerance(tol)
+            .build()
+            .expect("valid case")
     }
 
     fn n_samples(&self) -> usize {
@@ -153,7 +151,7 @@ impl Case {
 
     /// The exact solution applies: longitudinal Dahl (kappa = 1) under velocity drive, harmonic
     /// source with phase 0, no input support motion.
-    fn exact(&self) -> Option<common::ExactDahl> {
+    fn exact(&self) -> Option<reference::ExactDahl> {
         let c = self.config();
         let p = &self.params;
         (c.law == Law::Dahl
@@ -163,7 +161,7 @@ impl Case {
             && !c.input_support
             && p.kappa == 1.0
             && p.phase == 0.0)
-            .then(|| common::ExactDahl::new(p, self.scene.inputs.v_d))
+            .then(|| reference::ExactDahl::new(p, self.scene.inputs.v_d))
     }
 }
 

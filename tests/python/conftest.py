@@ -5,10 +5,12 @@ communication points as fmpy's co-simulation loop, so that its numbers can be co
 the FMU's bit for bit.
 """
 
+import contextlib
 import csv
 import io
 import os
 import pathlib
+import shutil
 import subprocess
 
 import numpy as np
@@ -40,6 +42,67 @@ def fmu_path(name):
 @pytest.fixture(scope="session")
 def default_fmu():
     return fmu_path("VibratingContact")
+
+
+class Opened:
+    """An FMU (FMI 2.0 or 3.0) unpacked into a temporary folder with its model description read:
+    `vr` maps names to value references, `outputs` lists the outputs' references, and
+    `instance(name)` makes an instantiated fmpy instance (Co-Simulation, or Model Exchange with
+    `model_exchange=True`). `close()` frees every instance still live and removes the folder."""
+
+    def __init__(self, path):
+        from fmpy import extract, read_model_description
+
+        self.md = read_model_description(str(path))
+        self.fmi3 = self.md.fmiVersion.startswith("3")
+        self.dir = extract(str(path))
+        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+        self.outputs = [v.valueReference for v in self.md.modelVariables if v.causality == "output"]
+        self.live = []
+
+    def instance(self, name, visible=False, model_exchange=False):
+        from fmpy.fmi2 import FMU2Model, FMU2Slave
+        from fmpy.fmi3 import FMU3Model, FMU3Slave
+
+        kind = [[FMU2Slave, FMU2Model], [FMU3Slave, FMU3Model]][self.fmi3][model_exchange]
+        interface = self.md.modelExchange if model_exchange else self.md.coSimulation
+        fmu = kind(
+            guid=self.md.instantiationToken if self.fmi3 else self.md.guid,
+            unzipDirectory=self.dir,
+            modelIdentifier=interface.modelIdentifier,
+            instanceName=name,
+        )
+        fmu.instantiate(visible=visible)
+        self.live.append(fmu)
+        return fmu
+
+    def free(self, fmu):
+        """Frees one instance now."""
+        self.live.remove(fmu)
+        fmu.freeInstance()
+
+    def close(self):
+        while self.live:
+            self.free(self.live[-1])
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def opened(path):
+    """`with opened(path) as fmu:` an `Opened` FMU, closed at the end of the block."""
+    fmu = Opened(path)
+    try:
+        yield fmu
+    finally:
+        fmu.close()
+
+
+@pytest.fixture
+def open_fmu():
+    """Opens FMUs for a test: `open_fmu(path)` returns an `Opened` FMU; every one is closed
+    (instances freed, folder removed) when the test ends, passed or failed."""
+    with contextlib.ExitStack() as stack:
+        yield lambda path: stack.enter_context(opened(path))
 
 
 def core(scene, step, stop, sets=None, tolerance=None):

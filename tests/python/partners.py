@@ -39,18 +39,11 @@ def run_fmpy(fmu, h, n):
 def run_fmpy_replay(fmu, points, steps, instance_name="replay"):
     """fmpy's FMU2Slave driven through exactly the communication points and step sizes a
     partner used (toleranceDefined = 0, stopTimeDefined = 0); outputs after each step."""
-    import shutil as _shutil
+    from conftest import opened
 
-    from fmpy import extract
-    from fmpy.fmi2 import FMU2Slave
-
-    md = read_model_description(fmu)
     outs = outputs_of(fmu)
-    unzipdir = extract(fmu)
-    try:
-        s = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName=instance_name)
-        s.instantiate()
+    with opened(fmu) as o:
+        s = o.instance(instance_name)
         s.setupExperiment(startTime=0.0)
         s.enterInitializationMode()
         s.exitInitializationMode()
@@ -59,9 +52,6 @@ def run_fmpy_replay(fmu, points, steps, instance_name="replay"):
             s.doStep(currentCommunicationPoint=float(t), communicationStepSize=float(h))
             rows.append(s.getReal([vr for _, vr in outs]))
         s.terminate()
-        s.freeInstance()
-    finally:
-        _shutil.rmtree(unzipdir, ignore_errors=True)
     rows = np.array(rows)
     return {name: rows[:, k] for k, (name, _) in enumerate(outs)}
 

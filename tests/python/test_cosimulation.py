@@ -6,15 +6,12 @@ and the result converges to the same spring drive computed inside the core (a sp
 scene of the same contact), with a coupling error of first order in the communication step."""
 
 import math
-import shutil
 
 import numpy as np
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
 
 import pytest
 
-from conftest import SCENES, core, fmu_path
+from conftest import SCENES, core, fmu_path, opened
 
 K_D, C_D, V_D = 1e5, 100.0, 1e-3  # the spring drive's defaults (`docs/model.md`)
 TOL = 1e-9
@@ -40,17 +37,9 @@ def spring_scene(tmp_path):
 
 def cosimulate(fmu_file, h):
     """Returns x at the communication points t = k·h."""
-    md = read_model_description(fmu_file)
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzipdir = extract(fmu_file)
-    fmu = FMU2Slave(
-        guid=md.guid,
-        unzipDirectory=unzipdir,
-        modelIdentifier=md.coSimulation.modelIdentifier,
-        instanceName="spring-master",
-    )
-    try:
-        fmu.instantiate()
+    with opened(fmu_file) as o:
+        vr = o.vr
+        fmu = o.instance("spring-master")
         fmu.setupExperiment(tolerance=TOL, startTime=0.0)
         fmu.enterInitializationMode()
         fmu.exitInitializationMode()
@@ -64,9 +53,6 @@ def cosimulate(fmu_file, h):
             fmu.doStep(currentCommunicationPoint=t, communicationStepSize=(k + 1) * h - t)
             xs.append(fmu.getReal([vr["x"]])[0])
         fmu.terminate()
-        fmu.freeInstance()
-    finally:
-        shutil.rmtree(unzipdir, ignore_errors=True)
     return np.array(xs)
 
 
@@ -116,18 +102,10 @@ HOST_MASS = 500.0
 
 def host_body(fmu_file, h, coupling, mass=HOST_MASS):
     """x of the host's body at t = k·h, the contact in `fmu_file` (a velocity drive)."""
-    md = read_model_description(fmu_file)
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzipdir = extract(fmu_file)
-    fmu = FMU2Slave(
-        guid=md.guid,
-        unzipDirectory=unzipdir,
-        modelIdentifier=md.coSimulation.modelIdentifier,
-        instanceName="host-body",
-    )
-    force = vr["F_Fx_step" if coupling == "step mean" else "F_Fx"]
-    try:
-        fmu.instantiate()
+    with opened(fmu_file) as o:
+        vr = o.vr
+        fmu = o.instance("host-body")
+        force = vr["F_Fx_step" if coupling == "step mean" else "F_Fx"]
         fmu.setupExperiment(tolerance=TOL, startTime=0.0)
         fmu.setReal([vr["v_d"]], [0.0])
         fmu.enterInitializationMode()
@@ -143,9 +121,6 @@ def host_body(fmu_file, h, coupling, mass=HOST_MASS):
             x, v = x + h * v, v + h * (spring - f) / mass
             xs.append(x)
         fmu.terminate()
-        fmu.freeInstance()
-    finally:
-        shutil.rmtree(unzipdir, ignore_errors=True)
     return np.array(xs)
 
 
@@ -178,83 +153,61 @@ def test_host_body_closed_through_the_step_mean_converges_with_first_order():
     assert all(m < s for m, s in zip(errors, table["sampled"])), table
 
 
-def test_output_derivatives_match_finite_differences_through_fmpy(default_fmu):
+def test_output_derivatives_match_finite_differences_through_fmpy(default_fmu, open_fmu):
     """x' = v_x exactly; v_x' and the step mean's derivative against differences over small
     steps taken from a saved state; F_Fx has none and says so."""
-    md = read_model_description(default_fmu)
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzipdir = extract(default_fmu)
-    fmu = FMU2Slave(
-        guid=md.guid,
-        unzipDirectory=unzipdir,
-        modelIdentifier=md.coSimulation.modelIdentifier,
-        instanceName="derivatives",
-    )
-    try:
-        fmu.instantiate()
-        fmu.setupExperiment(tolerance=1e-12, startTime=0.0)
-        fmu.enterInitializationMode()
-        fmu.exitInitializationMode()
-        t = 0.0
-        for k in range(10):
-            fmu.doStep(currentCommunicationPoint=t, communicationStepSize=1e-3 + 3.7e-5)
-            t += 1e-3 + 3.7e-5
-        names = ["x", "v_x", "y", "v_y"]
-        refs = [vr[n] for n in names]
-        d = fmu.getRealOutputDerivatives(refs, [1] * len(refs))
-        now = fmu.getReal(refs)
-        assert d[0] == now[1] and d[2] == now[3]
-        state = fmu.getFMUstate()
-        delta = 2e-7
+    o = open_fmu(default_fmu)
+    vr = o.vr
+    fmu = o.instance("derivatives")
+    fmu.setupExperiment(tolerance=1e-12, startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    t = 0.0
+    for k in range(10):
+        fmu.doStep(currentCommunicationPoint=t, communicationStepSize=1e-3 + 3.7e-5)
+        t += 1e-3 + 3.7e-5
+    names = ["x", "v_x", "y", "v_y"]
+    refs = [vr[n] for n in names]
+    d = fmu.getRealOutputDerivatives(refs, [1] * len(refs))
+    now = fmu.getReal(refs)
+    assert d[0] == now[1] and d[2] == now[3]
+    state = fmu.getFMUstate()
+    delta = 2e-7
 
-        def ahead(dt):
-            fmu.setFMUstate(state)
-            fmu.doStep(currentCommunicationPoint=t, communicationStepSize=dt)
-            return np.array(fmu.getReal(refs))
+    def ahead(dt):
+        fmu.setFMUstate(state)
+        fmu.doStep(currentCommunicationPoint=t, communicationStepSize=dt)
+        return np.array(fmu.getReal(refs))
 
-        fd = 2 * (ahead(delta / 2) - now) / (delta / 2) - (ahead(delta) - now) / delta
-        f_c = 0.2 * 55.0
-        for k, n in enumerate(names):
-            natural = f_c / 5.6 if n.startswith("v_") else 1e-3
-            assert abs(d[k] - fd[k]) <= 1e-5 * max(abs(d[k]), abs(fd[k]), natural), (n, d[k], fd[k])
-        fmu.freeFMUstate(state)
-        # An output without an exact derivative is an error (the instance then needs a reset).
-        with pytest.raises(Exception, match="status 3"):
-            fmu.getRealOutputDerivatives([vr["F_Fx"]], [1])
-        fmu.freeInstance()
-    finally:
-        shutil.rmtree(unzipdir, ignore_errors=True)
+    fd = 2 * (ahead(delta / 2) - now) / (delta / 2) - (ahead(delta) - now) / delta
+    f_c = 0.2 * 55.0
+    for k, n in enumerate(names):
+        natural = f_c / 5.6 if n.startswith("v_") else 1e-3
+        assert abs(d[k] - fd[k]) <= 1e-5 * max(abs(d[k]), abs(fd[k]), natural), (n, d[k], fd[k])
+    fmu.freeFMUstate(state)
+    # An output without an exact derivative is an error (the instance then needs a reset).
+    with pytest.raises(Exception, match="status 3"):
+        fmu.getRealOutputDerivatives([vr["F_Fx"]], [1])
 
 
-def test_a_start_time_of_1e9_s_keeps_full_accuracy(default_fmu):
+def test_a_start_time_of_1e9_s_keeps_full_accuracy(default_fmu, open_fmu):
     """Stepped from t = 1e9 s and from 0 on a grid both represent exactly (2^-10 s): the same
     outputs, bit for bit (the FMU counts time from its start)."""
-    md = read_model_description(default_fmu)
-    vr = {v.name: v.valueReference for v in md.modelVariables}
     names = ["F_Fx", "F_mean", "x", "v_x", "F_Fx_step"]
     h = 2.0**-10
     runs = []
     for t0 in (0.0, 1e9):
-        unzipdir = extract(default_fmu)
-        fmu = FMU2Slave(
-            guid=md.guid,
-            unzipDirectory=unzipdir,
-            modelIdentifier=md.coSimulation.modelIdentifier,
-            instanceName="late-start",
-        )
-        try:
-            fmu.instantiate()
-            fmu.setupExperiment(startTime=t0)
-            fmu.enterInitializationMode()
-            fmu.exitInitializationMode()
-            rows = []
-            for k in range(40):
-                fmu.doStep(currentCommunicationPoint=t0 + k * h, communicationStepSize=h)
-                rows.append(fmu.getReal([vr[n] for n in names]))
-            fmu.terminate()
-            fmu.freeInstance()
-        finally:
-            shutil.rmtree(unzipdir, ignore_errors=True)
+        o = open_fmu(default_fmu)
+        vr = o.vr
+        fmu = o.instance("late-start")
+        fmu.setupExperiment(startTime=t0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        rows = []
+        for k in range(40):
+            fmu.doStep(currentCommunicationPoint=t0 + k * h, communicationStepSize=h)
+            rows.append(fmu.getReal([vr[n] for n in names]))
+        fmu.terminate()
         runs.append(np.array(rows))
     diff = np.argwhere(runs[0] != runs[1])
     assert len(diff) == 0, (diff[:5], runs[0][tuple(diff[0])], runs[1][tuple(diff[0])])

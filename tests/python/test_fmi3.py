@@ -4,13 +4,10 @@ classes of FMI 2.0 (out-of-range values, fixed parameters after initialization, 
 wrong state, unknown value references, foreign saved states, interfaces it does not offer) are
 refused naming the variable and the rule, changing nothing; saved states continue bit for bit."""
 
-import shutil
-
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description, simulate_fmu
+from fmpy import read_model_description, simulate_fmu
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi3 import FMU3Slave
 from fmpy.validation import validate_fmu
 
 from conftest import DIST
@@ -67,29 +64,9 @@ def test_co_simulation_results_equal_fmi2_bit_for_bit():
 
 
 @pytest.fixture
-def slave3():
-    path = str(FMI3 / "VibratingContact.fmu")
-    md = read_model_description(path)
-    unzipdir = extract(path)
-    made = []
-
-    def make(name):
-        fmu = FMU3Slave(
-            guid=md.instantiationToken,
-            unzipDirectory=unzipdir,
-            modelIdentifier=md.coSimulation.modelIdentifier,
-            instanceName=name,
-        )
-        fmu.instantiate()
-        made.append(fmu)
-        return fmu
-
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    outputs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
-    yield make, vr, outputs, unzipdir
-    for fmu in made:
-        fmu.freeInstance()
-    shutil.rmtree(unzipdir, ignore_errors=True)
+def slave3(open_fmu):
+    o = open_fmu(FMI3 / "VibratingContact.fmu")
+    return o.instance, o.vr, o.outputs, o.dir
 
 
 def start(fmu):

@@ -2,38 +2,15 @@
 variable and the rule) printed by fmpy's logger, the values stay as they were, and a serialized
 state restored into a fresh instance continues bit for bit."""
 
-import shutil
-
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
 from fmpy.fmi1 import FMICallException
 
 
 @pytest.fixture
-def slave(default_fmu):
-    md = read_model_description(default_fmu)
-    unzipdir = extract(default_fmu)
-    made = []
-
-    def make(name):
-        fmu = FMU2Slave(
-            guid=md.guid,
-            unzipDirectory=unzipdir,
-            modelIdentifier=md.coSimulation.modelIdentifier,
-            instanceName=name,
-        )
-        fmu.instantiate()
-        made.append(fmu)
-        return fmu
-
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    outputs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
-    yield make, vr, outputs
-    for fmu in made:
-        fmu.freeInstance()
-    shutil.rmtree(unzipdir, ignore_errors=True)
+def slave(default_fmu, open_fmu):
+    o = open_fmu(default_fmu)
+    return o.instance, o.vr, o.outputs
 
 
 def run(fmu, vr, outputs, t, steps, h=1e-3):

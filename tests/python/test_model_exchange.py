@@ -9,13 +9,12 @@ modest multiple of the tolerance times the solution's scale, so the two agree wi
 BOUND = 2000 * RTOL of each output's scale (its largest magnitude in the run, or the scale of
 its kind where the output stays near 0)."""
 
-import shutil
 
 import numpy as np
 import pytest
-from conftest import DIST, fmu_path
-from fmpy import extract, read_model_description, simulate_fmu
-from fmpy.fmi2 import FMU2Model, fmi2EventInfo
+from conftest import DIST, Opened, fmu_path
+from fmpy import read_model_description, simulate_fmu
+from fmpy.fmi2 import fmi2EventInfo
 
 RTOL = 1e-8
 BOUND = 2000 * RTOL
@@ -128,24 +127,16 @@ class Model:
     continuous-time mode at t = 0."""
 
     def __init__(self, name, start=None, version=2):
-        from fmpy.fmi3 import FMU3Model
-
         self.version = version
         path = fmu_path(name) if version == 2 else str(DIST / "fmi3" / f"{name}.fmu")
-        self.md = read_model_description(path)
-        self.dir = extract(path)
-        self.fmu = (FMU2Model if version == 2 else FMU3Model)(
-            guid=self.md.guid,
-            unzipDirectory=self.dir,
-            modelIdentifier=self.md.modelExchange.modelIdentifier,
-            instanceName=name,
-        )
-        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+        self.opened = Opened(path)
+        self.md = self.opened.md
+        self.fmu = self.opened.instance(name, model_exchange=True)
+        self.vr = self.opened.vr
         self.states = [d.variable.derivative.name for d in self.md.derivatives]
         self.derivatives = [d.variable.name for d in self.md.derivatives]
         self.nx = len(self.states)
         f = self.fmu
-        f.instantiate()
         if version == 2:
             f.setupExperiment(tolerance=RTOL, startTime=0.0)
             f.enterInitializationMode()
@@ -174,8 +165,7 @@ class Model:
         return dx
 
     def close(self):
-        self.fmu.freeInstance()
-        shutil.rmtree(self.dir, ignore_errors=True)
+        self.opened.close()
 
 
 def Model3(name):

@@ -15,13 +15,10 @@ A partner that is not installed fails its tests unless VIBROFRIC_SKIP_PARTNERS n
 
 import os
 import pathlib
-import shutil
 import tomllib
 
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
 
 import partners
 from conftest import SCENES, fmu_path
@@ -179,7 +176,7 @@ def test_fmi_sim_errors_are_seen_through_its_log_and_exit_status(tmp_path):
     assert "ERROR [logger] fmi2SetReal: k_t = -1: must be finite and > 0" in p.stderr, p.stderr
 
 
-def test_importer_habits_do_not_change_the_results():
+def test_importer_habits_do_not_change_the_results(open_fmu):
     """fmpy's FMU2Slave driven as a sloppy master — visible = 1, a 1000-character instance name,
     toleranceDefined = 0, stopTimeDefined = 0 — and as a careful one — visible = 0, a short name,
     the default tolerance given explicitly, stopTime defined — on the same t += h grid, each
@@ -188,18 +185,15 @@ def test_importer_habits_do_not_change_the_results():
     variants, names up to 100000 characters and the acceptance of rounded communication points
     are tested in tests/fmi_calls.rs.)"""
     ident = "VibratingContact"
-    fmu = fmu_path(ident)
-    md = read_model_description(fmu)
+    opened_fmu = open_fmu(fmu_path(ident))
+    md = opened_fmu.md
     outs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
     names = [v.name for v in md.modelVariables if v.causality == "output"]
-    unzipdir = extract(fmu)
     n, h = 1000, 1e-4
     stop = n * h + h / 3
 
     def run(name, visible, sloppy, accumulate):
-        s = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir,
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
-        s.instantiate(visible=visible)
+        s = opened_fmu.instance(name, visible=visible)
         if sloppy:
             s.setupExperiment(startTime=0.0)  # toleranceDefined = 0, stopTimeDefined = 0
         else:
@@ -218,16 +212,13 @@ def test_importer_habits_do_not_change_the_results():
         s.doStep(currentCommunicationPoint=last, communicationStepSize=stop - last)
         rows.append(s.getReal(outs))
         s.terminate()
-        s.freeInstance()
+        opened_fmu.free(s)
         rows = np.array(rows)
         return {nm: rows[:, k] for k, nm in enumerate(names)}, t
 
-    try:
-        sloppy, t_end = run("s" * 1000, True, True, True)
-        careful, _ = run("careful", False, False, True)
-        exact, _ = run("exact", False, False, False)
-    finally:
-        shutil.rmtree(unzipdir, ignore_errors=True)
+    sloppy, t_end = run("s" * 1000, True, True, True)
+    careful, _ = run("careful", False, False, True)
+    exact, _ = run("exact", False, False, False)
     assert t_end != n * h, "the master's time drifted"
     worst, worst_rel, where = partners.disagreement(careful, sloppy)
     print(f"DISAGREEMENT habits {ident}: {worst:.3g} x bound, max relative {worst_rel:.3g} at {where}")

@@ -46,12 +46,7 @@ fn run(dir: &Path) -> Result<usize, String> {
     for path in fmu_files(dir)? {
         let fmu = Fmu::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let id = fmu.description.model_identifier.clone();
-        let vrs: Vec<u32> = fmu
-            .description
-            .variables
-            .iter()
-            .map(|(_, vr)| *vr)
-            .collect();
+        let vrs: Vec<u32> = fmu.description.variables.iter().map(|v| v.vr).collect();
         // Co-Simulation, FMI 2.0: every variable after each of 7 steps, then the state.
         let mut inst = fmu
             .instantiate("golden")
@@ -91,7 +86,7 @@ fn run(dir: &Path) -> Result<usize, String> {
             .description
             .variables
             .iter()
-            .filter(|(name, _)| name.starts_with("der("))
+            .filter(|v| v.name.starts_with("der("))
             .count();
         if nx > 0 {
             ok(me.set_time(1.234e-3), "setTime")?;
@@ -107,7 +102,7 @@ fn run(dir: &Path) -> Result<usize, String> {
                 .description
                 .variables
                 .iter()
-                .filter(|(name, _)| name.starts_with("event."))
+                .filter(|v| v.name.starts_with("event."))
                 .count();
             let z = me
                 .get_event_indicators(nz)

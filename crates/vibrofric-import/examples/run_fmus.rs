@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use vibrofric_import::fmi3::Fmu3;
-use vibrofric_import::Fmu;
+use vibrofric_import::{Fmu, Importer};
 
 fn fmus(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
@@ -23,17 +23,6 @@ fn fmus(dir: &Path) -> Result<Vec<PathBuf>, String> {
         .collect();
     v.sort();
     Ok(v)
-}
-
-/// The causality the model description gives the variable `name` (`F_d` is an input under a
-/// force drive, an output under a spring drive).
-fn causality<'a>(xml: &'a str, name: &str) -> Option<&'a str> {
-    let key = format!("name=\"{name}\"");
-    let at = xml.find(&key)?;
-    let end = xml[at..].find('>').map_or(xml.len(), |e| at + e);
-    let tag = &xml[xml[..at].rfind('<').unwrap_or(0)..end];
-    let rest = &tag[tag.find("causality=\"")? + "causality=\"".len()..];
-    rest.split('"').next()
 }
 
 fn print_rows(label: &str, rows: &[Vec<f64>]) {
@@ -51,19 +40,19 @@ fn run(dir: &Path) -> Result<usize, String> {
     for path in fmus(dir)? {
         let fmu = Fmu::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let d = &fmu.description;
-        let xml = std::fs::read_to_string(fmu.dir.join("modelDescription.xml"))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
         // Every output; FMI 3.0 repeats the names and value references of FMI 2.0.
         let outputs: Vec<u32> = d
             .variables
             .iter()
-            .filter(|(name, _)| causality(&xml, name) == Some("output"))
-            .map(|(_, vr)| *vr)
+            .filter(|v| v.causality == "output")
+            .map(|v| v.vr)
             .collect();
+        // `F_d` is an input under a force drive, an output under a spring drive.
         let inputs: Vec<(u32, f64)> = [("F_d", 7.5), ("v_sx", 1e-3)]
             .iter()
-            .filter(|(name, _)| causality(&xml, name) == Some("input"))
-            .filter_map(|(name, v)| d.vr(name).map(|vr| (vr, *v)))
+            .filter_map(|(name, x)| d.variables.iter().find(|v| v.name == *name).map(|v| (v, x)))
+            .filter(|(v, _)| v.causality == "input")
+            .map(|(v, x)| (v.vr, *x))
             .collect();
         let id = d.model_identifier.clone();
         for (step, set) in [(1e-3, &[][..]), (3.7e-4, &inputs[..])] {

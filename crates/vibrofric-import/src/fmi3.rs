@@ -12,47 +12,92 @@ use libloading::Library;
 
 use crate::{err, status, unpack, Description, ImportError, Status};
 
-type LogCallback = unsafe extern "C" fn(*mut c_void, i32, *const c_char, *const c_char);
-type Instantiate = unsafe extern "C" fn(
-    *const c_char,
-    *const c_char,
-    *const c_char,
-    bool,
-    bool,
-    bool,
-    bool,
-    *const u32,
-    usize,
-    *mut c_void,
-    Option<LogCallback>,
-    *mut c_void,
-) -> *mut c_void;
-type EnterInit = unsafe extern "C" fn(*mut c_void, bool, f64, f64, bool, f64) -> i32;
-type Unary = unsafe extern "C" fn(*mut c_void) -> i32;
-type Free = unsafe extern "C" fn(*mut c_void);
-type GetF64 = unsafe extern "C" fn(*mut c_void, *const u32, usize, *mut f64, usize) -> i32;
-type SetF64 = unsafe extern "C" fn(*mut c_void, *const u32, usize, *const f64, usize) -> i32;
-type DoStep = unsafe extern "C" fn(
-    *mut c_void,
-    f64,
-    f64,
-    bool,
-    *mut bool,
-    *mut bool,
-    *mut bool,
-    *mut f64,
-) -> i32;
-type GetState = unsafe extern "C" fn(*mut c_void, *mut *mut c_void) -> i32;
-type SetState = unsafe extern "C" fn(*mut c_void, *mut c_void) -> i32;
-type StateSize = unsafe extern "C" fn(*mut c_void, *mut c_void, *mut usize) -> i32;
-type Serialize = unsafe extern "C" fn(*mut c_void, *mut c_void, *mut u8, usize) -> i32;
-type Deserialize = unsafe extern "C" fn(*mut c_void, *const u8, usize, *mut *mut c_void) -> i32;
+/// The FMI 3.0 C types, from one place: the platform types as the exporter declares them
+/// (`vibrofric::fmi::fmi3::types`, `fmi3PlatformTypes.h`) and the function types of
+/// `fmi3FunctionTypes.h` this importer and the tests of the C interface call through.
+#[allow(non_camel_case_types)]
+pub mod types {
+    pub use vibrofric::fmi::fmi3::types::*;
+
+    pub type fmi3InstantiateCoSimulationTYPE = unsafe extern "C" fn(
+        fmi3String,
+        fmi3String,
+        fmi3String,
+        fmi3Boolean,
+        fmi3Boolean,
+        fmi3Boolean,
+        fmi3Boolean,
+        *const fmi3ValueReference,
+        usize,
+        fmi3InstanceEnvironment,
+        fmi3LogMessageCallback,
+        fmi3IntermediateUpdateCallback,
+    ) -> fmi3Instance;
+    pub type fmi3FreeInstanceTYPE = unsafe extern "C" fn(fmi3Instance);
+    pub type fmi3EnterInitializationModeTYPE = unsafe extern "C" fn(
+        fmi3Instance,
+        fmi3Boolean,
+        fmi3Float64,
+        fmi3Float64,
+        fmi3Boolean,
+        fmi3Float64,
+    ) -> fmi3Status;
+    /// `fmi3ExitInitializationMode`, `fmi3EnterEventMode`, `fmi3Terminate`, `fmi3Reset`.
+    pub type fmi3InstanceOnlyTYPE = unsafe extern "C" fn(fmi3Instance) -> fmi3Status;
+    pub type fmi3GetFloat64TYPE = unsafe extern "C" fn(
+        fmi3Instance,
+        *const fmi3ValueReference,
+        usize,
+        *mut fmi3Float64,
+        usize,
+    ) -> fmi3Status;
+    pub type fmi3SetFloat64TYPE = unsafe extern "C" fn(
+        fmi3Instance,
+        *const fmi3ValueReference,
+        usize,
+        *const fmi3Float64,
+        usize,
+    ) -> fmi3Status;
+    pub type fmi3GetInt32TYPE = unsafe extern "C" fn(
+        fmi3Instance,
+        *const fmi3ValueReference,
+        usize,
+        *mut fmi3Int32,
+        usize,
+    ) -> fmi3Status;
+    pub type fmi3DoStepTYPE = unsafe extern "C" fn(
+        fmi3Instance,
+        fmi3Float64,
+        fmi3Float64,
+        fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Float64,
+    ) -> fmi3Status;
+    /// `fmi3GetFMUState`, `fmi3FreeFMUState`.
+    pub type fmi3GetFMUStateTYPE =
+        unsafe extern "C" fn(fmi3Instance, *mut fmi3FMUState) -> fmi3Status;
+    pub type fmi3FreeFMUStateTYPE = fmi3GetFMUStateTYPE;
+    pub type fmi3SetFMUStateTYPE = unsafe extern "C" fn(fmi3Instance, fmi3FMUState) -> fmi3Status;
+    pub type fmi3SerializedFMUStateSizeTYPE =
+        unsafe extern "C" fn(fmi3Instance, fmi3FMUState, *mut usize) -> fmi3Status;
+    pub type fmi3SerializeFMUStateTYPE =
+        unsafe extern "C" fn(fmi3Instance, fmi3FMUState, *mut fmi3Byte, usize) -> fmi3Status;
+    pub type fmi3DeserializeFMUStateTYPE =
+        unsafe extern "C" fn(fmi3Instance, *const fmi3Byte, usize, *mut fmi3FMUState) -> fmi3Status;
+}
+
+use types::*;
 
 /// The log lines of one instance, reached through its environment pointer.
-type Log = Mutex<Vec<String>>;
+pub type Log = Mutex<Vec<String>>;
 
-/// The instance's `fmi3LogMessageCallback`: records the message.
-unsafe extern "C" fn log_message(
+/// An `fmi3LogMessageCallback` whose instance environment is a [`Log`]: records the message.
+///
+/// # Safety
+/// `env` must point to a live [`Log`] and `message` to a NUL-terminated string.
+pub unsafe extern "C" fn log_message(
     env: *mut c_void,
     _status: i32,
     _category: *const c_char,
@@ -154,7 +199,7 @@ impl Fmu3 {
                 0,
                 &*log as *const Log as *mut c_void,
                 Some(log_message),
-                ptr::null_mut(),
+                None,
             )
         };
         if raw.is_null() {
@@ -171,75 +216,25 @@ impl Fmu3 {
             _fmu: std::marker::PhantomData,
         })
     }
-
-    /// Runs from 0 to `stop` in steps of `step` (the last one shortened to end on `stop`) with
-    /// `inputs` set in initialization mode; returns `[t, outputs...]` at the start and after
-    /// every step: the points and steps of [`crate::Fmu::simulate`], so that both editions
-    /// compare.
-    pub fn simulate(
-        &self,
-        stop: f64,
-        step: f64,
-        inputs: &[(u32, f64)],
-        outputs: &[u32],
-    ) -> Result<Vec<Vec<f64>>, ImportError> {
-        let mut inst = self.instantiate("simulate")?;
-        let check = |inst: &Instance3, s: Status, what: &str| -> Result<(), ImportError> {
-            if s <= Status::Warning {
-                Ok(())
-            } else {
-                err(format!("{what} returned {s:?}: {}", inst.last_message()))
-            }
-        };
-        let s = inst.enter_initialization_mode(None, 0.0, Some(stop));
-        check(&inst, s, "fmi3EnterInitializationMode")?;
-        let (vrs, vals): (Vec<u32>, Vec<f64>) = inputs.iter().copied().unzip();
-        let s = inst.set_f64(&vrs, &vals);
-        check(&inst, s, "fmi3SetFloat64")?;
-        let s = inst.exit_initialization_mode();
-        check(&inst, s, "fmi3ExitInitializationMode")?;
-        let n = (stop / step).round().max(1.0) as u64;
-        let mut rows = vec![];
-        let mut t = 0.0;
-        for k in 0..=n {
-            let y = inst.get_f64(outputs).map_err(|s| {
-                ImportError(format!(
-                    "fmi3GetFloat64 returned {s:?}: {}",
-                    inst.last_message()
-                ))
-            })?;
-            let mut row = vec![t];
-            row.extend(y);
-            rows.push(row);
-            if k == n {
-                break;
-            }
-            let h = if k + 1 == n { stop - t } else { step };
-            let (s, _) = inst.do_step(t, h);
-            check(&inst, s, "fmi3DoStep")?;
-            t = if k + 1 == n { stop } else { t + h };
-        }
-        Ok(rows)
-    }
 }
 
 /// The FMI 3.0 functions an instance calls.
 struct Functions {
-    instantiate: Instantiate,
-    free: Free,
-    enter: EnterInit,
-    exit: Unary,
-    terminate: Unary,
-    reset: Unary,
-    set: SetF64,
-    get: GetF64,
-    do_step: DoStep,
-    get_state: GetState,
-    set_state: SetState,
-    free_state: GetState,
-    state_size: StateSize,
-    serialize: Serialize,
-    deserialize: Deserialize,
+    instantiate: fmi3InstantiateCoSimulationTYPE,
+    free: fmi3FreeInstanceTYPE,
+    enter: fmi3EnterInitializationModeTYPE,
+    exit: fmi3InstanceOnlyTYPE,
+    terminate: fmi3InstanceOnlyTYPE,
+    reset: fmi3InstanceOnlyTYPE,
+    set: fmi3SetFloat64TYPE,
+    get: fmi3GetFloat64TYPE,
+    do_step: fmi3DoStepTYPE,
+    get_state: fmi3GetFMUStateTYPE,
+    set_state: fmi3SetFMUStateTYPE,
+    free_state: fmi3FreeFMUStateTYPE,
+    state_size: fmi3SerializedFMUStateSizeTYPE,
+    serialize: fmi3SerializeFMUStateTYPE,
+    deserialize: fmi3DeserializeFMUStateTYPE,
 }
 
 /// An FMI 3.0 Co-Simulation instance; freed when dropped.

@@ -1,7 +1,8 @@
-//! A small FMI 2.0 Co-Simulation importer: loads an FMU (an unpacked folder or a `.fmu` archive)
-//! with `libloading`, binds every common and Co-Simulation function, and drives instances
-//! through a safe API. The tests use it as an importer would, and the exporter's self-check runs
-//! every FMU it writes through it.
+//! A small FMI 2.0 and 3.0 importer: loads an FMU (an unpacked folder or a `.fmu` archive)
+//! with `libloading`, binds every common, Co-Simulation and (FMI 2.0) Model Exchange function,
+//! and drives instances through a safe API; [`Importer`] and [`CoSimulation`] are what both
+//! editions' Co-Simulation have in common, for code written once for both. The tests use it
+//! as an importer would, and the exporter's self-check runs every FMU it writes through it.
 //!
 //! `unsafe` is confined to loading the library, calling its functions with pointers that this
 //! module owns, and the logger callback below; each block says why it is sound.
@@ -26,7 +27,10 @@ use std::sync::Mutex;
 
 use libloading::Library;
 
+mod cosim;
 pub mod fmi3;
+
+pub use cosim::{CoSimulation, Importer};
 
 use vibrofric::fmi::fmi2::types::*;
 pub use vibrofric::fmi::Status;
@@ -217,8 +221,18 @@ pub struct Description {
     pub guid: String,
     /// `modelIdentifier` of the `CoSimulation` element.
     pub model_identifier: String,
-    /// `(name, valueReference)` of every `ScalarVariable`.
-    pub variables: Vec<(String, u32)>,
+    /// Every `ScalarVariable` (FMI 2.0) or `Float64` (FMI 3.0), in file order.
+    pub variables: Vec<Variable>,
+}
+
+/// A variable of the model description, as the importer reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variable {
+    pub name: String,
+    pub vr: u32,
+    /// The `causality` attribute: `parameter`, `input`, `output`, `local`, ... (`local` where
+    /// it is absent, the default of both editions).
+    pub causality: String,
 }
 
 impl Description {
@@ -276,7 +290,12 @@ impl Description {
                         .ok_or_else(|| {
                             ImportError(format!("variable {name}: bad valueReference"))
                         })?;
-                    d.variables.push((name, vr));
+                    let causality = attr("causality")?.unwrap_or_else(|| "local".into());
+                    d.variables.push(Variable {
+                        name,
+                        vr,
+                        causality,
+                    });
                 }
                 _ => {}
             }
@@ -295,10 +314,7 @@ impl Description {
 
     /// The value reference of a variable.
     pub fn vr(&self, name: &str) -> Option<u32> {
-        self.variables
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|&(_, vr)| vr)
+        self.variables.iter().find(|v| v.name == name).map(|v| v.vr)
     }
 }
 
@@ -521,64 +537,6 @@ impl Fmu {
             }),
             log,
         )
-    }
-
-    /// Runs a default experiment: instantiate, set `inputs` (value reference, value) once,
-    /// step from 0 to `stop` with `step`, and return rows `[t, outputs...]` of the value
-    /// references `outputs` (first row at t = 0).
-    pub fn simulate(
-        &self,
-        stop: f64,
-        step: f64,
-        inputs: &[(u32, f64)],
-        outputs: &[u32],
-    ) -> Result<Vec<Vec<f64>>, ImportError> {
-        let mut inst = self.instantiate("simulate")?;
-        let check = |inst: &Instance, s: Status, what: &str| -> Result<(), ImportError> {
-            if s <= Status::Warning {
-                Ok(())
-            } else {
-                err(format!(
-                    "{what} returned {}: {}",
-                    vibrofric::fmi::fmi2::status_name(s),
-                    inst.last_message()
-                ))
-            }
-        };
-        let s = inst.setup_experiment(None, 0.0, Some(stop));
-        check(&inst, s, "fmi2SetupExperiment")?;
-        let s = inst.enter_initialization_mode();
-        check(&inst, s, "fmi2EnterInitializationMode")?;
-        let (vrs, vals): (Vec<u32>, Vec<f64>) = inputs.iter().copied().unzip();
-        let s = inst.set_real(&vrs, &vals);
-        check(&inst, s, "fmi2SetReal")?;
-        let s = inst.exit_initialization_mode();
-        check(&inst, s, "fmi2ExitInitializationMode")?;
-        let mut rows = Vec::new();
-        let mut t = 0.0;
-        let n = (stop / step).round().max(1.0) as u64;
-        for k in 0..=n {
-            let y = inst.get_real(outputs).map_err(|s| {
-                ImportError(format!(
-                    "fmi2GetReal returned {}: {}",
-                    vibrofric::fmi::fmi2::status_name(s),
-                    inst.last_message()
-                ))
-            })?;
-            let mut row = vec![t];
-            row.extend(y);
-            rows.push(row);
-            if k == n {
-                break;
-            }
-            let h = if k + 1 == n { stop - t } else { step };
-            let s = inst.do_step(t, h);
-            check(&inst, s, "fmi2DoStep")?;
-            t = if k + 1 == n { stop } else { t + h };
-        }
-        let s = inst.terminate();
-        check(&inst, s, "fmi2Terminate")?;
-        Ok(rows)
     }
 }
 
@@ -1006,7 +964,35 @@ impl Instance<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::file_uri_of;
+    use super::{file_uri_of, Description};
+
+    #[test]
+    fn description_keeps_each_variables_causality() {
+        let xml = r#"<fmiModelDescription fmiVersion="2.0" modelName="m" guid="{g}">
+            <CoSimulation modelIdentifier="M"/>
+            <ModelVariables>
+              <ScalarVariable name="k_t" valueReference="3" causality="parameter"/>
+              <ScalarVariable name="F_d" valueReference="101" causality="input"/>
+              <ScalarVariable name="F_Fx" valueReference="201" causality="output"/>
+              <ScalarVariable name="s_x" valueReference="301"/>
+            </ModelVariables></fmiModelDescription>"#;
+        let d = Description::parse(xml).unwrap();
+        let got: Vec<(&str, u32, &str)> = d
+            .variables
+            .iter()
+            .map(|v| (v.name.as_str(), v.vr, v.causality.as_str()))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("k_t", 3, "parameter"),
+                ("F_d", 101, "input"),
+                ("F_Fx", 201, "output"),
+                ("s_x", 301, "local"),
+            ]
+        );
+        assert_eq!(d.vr("F_Fx"), Some(201));
+    }
 
     #[test]
     fn file_uris_are_written_as_rfc_8089_and_fmpy_write_them() {

@@ -4,6 +4,8 @@
 //! time for the law, the motion and the drive; the support sources are chosen at run time, where
 //! they cost one branch. The files, each one job:
 //! - `simulator.rs`: the object-safe [`Simulator`] trait, its errors and work counters;
+//! - `setup.rs`: [`Setup`], the one way from a configuration, parameters and inputs to a
+//!   simulator (used by the FMU instance, the command line, the tests and the examples);
 //! - `drive.rs`: how the body is moved (force, velocity, spring drive) and its equations;
 //! - `dynamics.rs`: the right-hand side and its Jacobian: deformation rate of the law, body,
 //!   normal load and lift-off, the relative velocity from the sources;
@@ -26,6 +28,7 @@ mod exact;
 mod exchange;
 mod explicit;
 mod ode;
+mod setup;
 mod simulator;
 mod snapshot;
 mod state;
@@ -37,6 +40,7 @@ pub use crate::table::{
 };
 pub use exchange::DOMAIN_FACTOR;
 pub use ode::Ode;
+pub use setup::Setup;
 pub use simulator::{
     EventUpdate, Exchange, Path, SimError, Simulator, StateVector, StepStats, TOLERANCE_RANGE,
 };

@@ -36,7 +36,7 @@ use crate::description::log::Category;
 use crate::description::scene::Scene;
 use crate::description::variables::{by_vr, VarKind, Variable};
 use crate::description::xml;
-use crate::model::{self, InputId, SimError, Simulator, StateId};
+use crate::model::{self, SimError, Simulator, StateId};
 
 /// The FMU instance.
 pub struct Instance {
@@ -304,19 +304,12 @@ impl Instance {
 
     /// The simulator built from the staged values.
     fn build_sim(&self) -> Result<Box<dyn Simulator>, SimError> {
-        let c = self.scene.config;
-        let mut sim = model::build(c, self.st.params, self.st.start_time, self.st.tolerance())?;
-        for id in InputId::ALL {
-            if id.present(&c) {
-                sim.set_input(id, id.get(&self.st.inputs))?;
-            }
-        }
-        for (k, id) in InputId::ALL.into_iter().enumerate() {
-            if let Some(d) = self.st.derivs[k] {
-                sim.set_input_derivative(id, d)?;
-            }
-        }
-        Ok(sim)
+        model::Setup::new(self.scene.config, self.st.params)
+            .inputs(self.st.inputs)
+            .derivatives(self.st.derivs)
+            .start(self.st.start_time)
+            .tolerance(self.st.tolerance())
+            .build()
     }
 
     /// The variable with this value reference, or why there is none in this scene.

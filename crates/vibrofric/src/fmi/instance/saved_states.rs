@@ -50,13 +50,11 @@ impl Instance {
         let Some(snap) = &s.sim else {
             return Ok(None);
         };
-        let mut sim = model::build(
-            self.scene.config,
-            s.staged.params,
-            s.staged.start_time,
-            s.staged.tolerance(),
-        )
-        .map_err(Refusal::error)?;
+        let mut sim = model::Setup::new(self.scene.config, s.staged.params)
+            .start(s.staged.start_time)
+            .tolerance(s.staged.tolerance())
+            .build()
+            .map_err(Refusal::error)?;
         match s.interface {
             Interface::CoSimulation => sim.restore(snap),
             Interface::ModelExchange => sim.restore_exchange(snap),

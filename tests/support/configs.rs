@@ -1,4 +1,5 @@
 //! The two configurations the stability matrix exercises (tests and report share them).
+#![allow(dead_code)]
 
 use vibrofric::model::{Config, Drive, Lateral, Law, Motion};
 

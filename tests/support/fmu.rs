@@ -1,11 +1,12 @@
-//! Shared by the `fmi_*` tests: builds an unpacked FMU folder around the cdylib that cargo built
-//! for this test run, and drives it through `vibrofric_import` as an importer would.
-#![allow(dead_code)]
+//! The FMU harness: builds an unpacked FMU folder around the cdylib that cargo built for this
+//! test run, and drives it through `vibrofric_import` as an importer would.
 
 use std::path::{Path, PathBuf};
 
 use vibrofric::description::xml;
 use vibrofric::description::Scene;
+
+use super::scenes::scene_text;
 use vibrofric_import::{Fmu, Instance, Status};
 
 /// Value references, from the variable table (stable across scenes).
@@ -32,20 +33,6 @@ pub mod vr {
     pub const REDUCTION: u32 = OutputId::Reduction.vr();
 }
 
-/// The standard scenes, `scenes/*.toml`.
-pub const STANDARD_SCENES: [&str; 10] = [
-    "contact.toml",
-    "contact-lugre.toml",
-    "contact-dupont.toml",
-    "drill-string-axial.toml",
-    "drill-string-contact.toml",
-    "paper-longitudinal.toml",
-    "paper-transverse.toml",
-    "paper-transverse-guided.toml",
-    "rig-longitudinal.toml",
-    "rig-transverse.toml",
-];
-
 /// The cdylib of this build: `target/<profile>/libvibrofric.so`, found from the test
 /// executable in `target/<profile>/deps/`.
 pub fn library() -> PathBuf {
@@ -62,17 +49,6 @@ pub fn library() -> PathBuf {
         }
     }
     panic!("{name} not found above {}", exe.display());
-}
-
-pub fn scene_text(file: &str) -> String {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("scenes")
-        .join(file);
-    std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-pub fn scene(file: &str) -> Scene {
-    Scene::parse(&scene_text(file), file).unwrap()
 }
 
 /// A fresh, empty temporary folder (removed at the start of the next run with the same tag).
@@ -150,7 +126,7 @@ pub fn load(file: &str, tag: &str) -> Fmu {
 macro_rules! ok {
     ($i:expr, $call:expr) => {{
         let s = $call;
-        $crate::fmi_harness::ok(&$i, s)
+        $crate::support::fmu::ok(&$i, s)
     }};
 }
 

@@ -1,0 +1,100 @@
+//! The one way from a scene's values to a running simulator: [`Setup`].
+
+use super::simulator::{Path, SimError, Simulator};
+use crate::physics::Params;
+use crate::table::{Config, InputId, Inputs};
+
+/// Everything a simulator starts from: the configuration, the parameters, the inputs (each one
+/// the configuration has is set), the start time, the relative tolerance, optionally the input
+/// derivatives and the integrator path. The FMU instance, the command line, the tests and the
+/// examples all build their simulators through it, so that they start alike.
+///
+/// ```
+/// use vibrofric::model::{Config, Inputs, Setup};
+/// use vibrofric::physics::Params;
+/// let sim = Setup::new(Config::default(), Params::default())
+///     .inputs(Inputs::default())
+///     .tolerance(1e-8)
+///     .build()
+///     .unwrap();
+/// assert_eq!(sim.time(), 0.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Setup {
+    pub config: Config,
+    pub params: Params,
+    /// The inputs to set, `None` to leave them all at zero.
+    pub inputs: Option<Inputs>,
+    /// The first time derivative of each input ([`InputId::index`]), set after the inputs.
+    pub derivatives: [Option<f64>; InputId::ALL.len()],
+    pub t_start: f64,
+    pub tolerance: f64,
+    /// [`Path::Radau`] forces the general integrator; any other takes the fastest that applies.
+    pub path: Path,
+}
+
+impl Setup {
+    /// Starts at `t = 0` with relative tolerance 1e-6, no inputs set, the fastest path.
+    pub fn new(config: Config, params: Params) -> Setup {
+        Setup {
+            config,
+            params,
+            inputs: None,
+            derivatives: [None; InputId::ALL.len()],
+            t_start: 0.0,
+            tolerance: 1e-6,
+            path: Path::ClosedForm,
+        }
+    }
+
+    /// Sets each input the configuration has to its value in `inputs`.
+    pub fn inputs(self, inputs: Inputs) -> Setup {
+        Setup {
+            inputs: Some(inputs),
+            ..self
+        }
+    }
+
+    /// Sets the input derivatives given (indexed by [`InputId::index`]).
+    pub fn derivatives(self, derivatives: [Option<f64>; InputId::ALL.len()]) -> Setup {
+        Setup {
+            derivatives,
+            ..self
+        }
+    }
+
+    /// Starts at `t_start`.
+    pub fn start(self, t_start: f64) -> Setup {
+        Setup { t_start, ..self }
+    }
+
+    /// Relative tolerance of the integrator (clamped to [`super::TOLERANCE_RANGE`]).
+    pub fn tolerance(self, tolerance: f64) -> Setup {
+        Setup { tolerance, ..self }
+    }
+
+    /// The integrator path (see [`super::build_on`]).
+    pub fn on(self, path: Path) -> Setup {
+        Setup { path, ..self }
+    }
+
+    /// The simulator: [`super::build_on`], then each input the configuration has, then the
+    /// derivatives given. The first refusal is returned.
+    pub fn build(&self) -> Result<Box<dyn Simulator>, SimError> {
+        let c = self.config;
+        let mut sim = super::build_on(c, self.params, self.t_start, self.tolerance, self.path)?;
+        if let Some(inputs) = &self.inputs {
+            for id in InputId::ALL {
+                if id.present(&c) {
+                    sim.set_input(id, id.get(inputs))?;
+                }
+            }
+        }
+        for id in InputId::ALL {
+            if let Some(d) = self.derivatives[id.index()] {
+                sim.set_input_derivative(id, d)?;
+            }
+        }
+        Ok(sim)
+    }
+}
