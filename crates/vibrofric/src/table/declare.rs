@@ -426,3 +426,64 @@ macro_rules! states {
         }
     };
 }
+
+/// Declares the event indicators of Model Exchange, one row per indicator: the id enum
+/// [`IndicatorId`](super::IndicatorId) and its facts as methods. Value references follow the
+/// declaration order (501..).
+macro_rules! indicators {
+    ($(
+        $(#[doc = $doc:literal])*
+        $id:ident {
+            name: $name:literal,
+            unit: $unit:literal,
+            description: $description:literal,
+            present: $present:expr,
+            knowns: $knowns:expr $(,)?
+        }
+    )*) => {
+        /// One event indicator of Model Exchange (a local variable in FMI 3.0's manner, listed
+        /// in FMI 2.0's model description too).
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum IndicatorId {
+            $( $(#[doc = $doc])* $id, )*
+        }
+
+        impl IndicatorId {
+            /// Every indicator, in declaration (value reference) order.
+            pub const ALL: [IndicatorId; count!($($id)*)] = [$(IndicatorId::$id),*];
+
+            pub fn name(self) -> &'static str {
+                match self { $( IndicatorId::$id => $name, )* }
+            }
+
+            pub fn unit(self) -> &'static str {
+                match self { $( IndicatorId::$id => $unit, )* }
+            }
+
+            pub fn description(self) -> &'static str {
+                match self { $( IndicatorId::$id => $description, )* }
+            }
+
+            /// True when a scene with this configuration has the indicator.
+            pub fn present(self, c: &Config) -> bool {
+                match self {
+                    $( IndicatorId::$id => {
+                        let present: fn(&Config) -> bool = $present;
+                        present(c)
+                    } )*
+                }
+            }
+
+            /// The knowns the indicator depends on, before those the scene lacks are dropped
+            /// ([`IndicatorId::dependencies`]).
+            fn knowns(self, c: &Config) -> Vec<Known> {
+                match self {
+                    $( IndicatorId::$id => {
+                        let knowns: fn(&Config) -> Vec<Known> = $knowns;
+                        knowns(c)
+                    } )*
+                }
+            }
+        }
+    };
+}

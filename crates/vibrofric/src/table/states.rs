@@ -258,81 +258,46 @@ impl OutputId {
     }
 }
 
-/// One event indicator of Model Exchange (a local variable in FMI 3.0's manner, listed in FMI
-/// 2.0's model description too): the switching functions the Co-Simulation solver locates, with
-/// its hysteresis band, and the lift-off threshold of a normal force input.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum IndicatorId {
+// The switching functions the Co-Simulation solver locates, with its hysteresis band, and the
+// lift-off threshold of a normal force input.
+indicators! {
     /// `v_rx + side·band`: the kink of `|v_r|`.
-    Slip,
+    Slip {
+        name: "event.v_rx", unit: "m/s",
+        description: "Event indicator: v_rx shifted by its hysteresis band (a sign change is a kink of |v_r|)",
+        present: |_| true,
+        knowns: velocity_knowns,
+    }
     /// `s·v_r + side·band`: Dupont's planar direction test.
-    Direction,
+    Direction {
+        name: "event.s_dot_v_r", unit: "m2/s",
+        description: "Event indicator: s.v_r shifted by its hysteresis band (Dupont's direction test)",
+        present: |c| c.planar() && c.law.has_breakaway(),
+        knowns: |c| {
+            let mut d = vec![Known::State(StateId::Sx), Known::State(StateId::Sy)];
+            d.extend(velocity_knowns(c));
+            d
+        },
+    }
     /// `F_N − F_lift`: the body leaves the support or lands.
-    LiftOff,
+    LiftOff {
+        name: "event.F_N_lift", unit: "N",
+        description: "Event indicator: F_N less the lift-off load (the body leaves the support or lands)",
+        present: |c| c.normal_input,
+        knowns: |_| vec![Known::Input(InputId::FN)],
+    }
 }
 
 impl IndicatorId {
-    pub const ALL: [IndicatorId; 3] = [
-        IndicatorId::Slip,
-        IndicatorId::Direction,
-        IndicatorId::LiftOff,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            IndicatorId::Slip => "event.v_rx",
-            IndicatorId::Direction => "event.s_dot_v_r",
-            IndicatorId::LiftOff => "event.F_N_lift",
-        }
-    }
-
     /// Value references 501–503.
     pub fn vr(self) -> u32 {
         501 + self as u32
     }
 
-    pub fn unit(self) -> &'static str {
-        match self {
-            IndicatorId::Slip => "m/s",
-            IndicatorId::Direction => "m2/s",
-            IndicatorId::LiftOff => "N",
-        }
-    }
-
-    pub fn description(self) -> &'static str {
-        match self {
-            IndicatorId::Slip => {
-                "Event indicator: v_rx shifted by its hysteresis band (a sign change is a kink of |v_r|)"
-            }
-            IndicatorId::Direction => {
-                "Event indicator: s.v_r shifted by its hysteresis band (Dupont's direction test)"
-            }
-            IndicatorId::LiftOff => {
-                "Event indicator: F_N less the lift-off load (the body leaves the support or lands)"
-            }
-        }
-    }
-
-    pub fn present(self, c: &Config) -> bool {
-        match self {
-            IndicatorId::Slip => true,
-            IndicatorId::Direction => c.planar() && c.law.has_breakaway(),
-            IndicatorId::LiftOff => c.normal_input,
-        }
-    }
-
     /// The knowns the indicator depends on: the relative velocity's (and the deformation for
     /// the direction test), the normal force input for the lift-off.
     pub fn dependencies(self, c: &Config, outputs: &[OutputId]) -> Vec<Known> {
-        let mut d = match self {
-            IndicatorId::Slip => velocity_knowns(c),
-            IndicatorId::Direction => {
-                let mut d = vec![Known::State(StateId::Sx), Known::State(StateId::Sy)];
-                d.extend(velocity_knowns(c));
-                d
-            }
-            IndicatorId::LiftOff => vec![Known::Input(InputId::FN)],
-        };
+        let mut d = self.knowns(c);
         d.retain(|k| match k {
             Known::State(s) => s.present(c, outputs),
             Known::Input(i) => i.present(c),
