@@ -131,7 +131,7 @@ pub struct ExactDahl {
 impl ExactDahl {
     /// The exact solution for the contact parameters `p` driven at `v_d`, computed from the raw
     /// parameters (`omega = 2·pi·f`, `s_ss = mu·F_N/k_t`) rather than the library's derived ones.
-    pub fn new(p: &vibrofric::physics::Params, v_d: f64) -> Self {
+    pub fn new(p: &vibrofric::table::Params, v_d: f64) -> Self {
         ExactDahl {
             v_d,
             u0: p.u0,

@@ -16,8 +16,8 @@ use serde::{Deserialize, Serialize};
 use super::staging::Staged;
 use super::state::{Interface, State};
 use crate::model::{self, ContactState, InputId};
-use crate::physics::ParamId;
 use crate::table::number;
+use crate::table::ParamId;
 
 /// A saved FMU state: the state machine's state, the staged values and the simulator's
 /// complete state. Restoring it, also into another instance of the same FMU or after

@@ -8,7 +8,7 @@ use super::state::State;
 use crate::description::scene::Scene;
 use crate::description::xml;
 use crate::model::{InputId, Inputs};
-use crate::physics::{ParamId, Params};
+use crate::table::{ParamId, Params};
 
 /// Relative tolerance when the experiment defines none: the `DefaultExperiment`'s.
 pub const DEFAULT_TOLERANCE: f64 = xml::DEFAULT_EXPERIMENT.2;

@@ -1,7 +1,7 @@
 //! The one way from a scene's values to a running simulator: [`Setup`].
 
 use super::simulator::{Path, SimError, Simulator};
-use crate::physics::Params;
+use crate::table::Params;
 use crate::table::{Config, InputId, Inputs};
 
 /// Everything a simulator starts from: the configuration, the parameters, the inputs (each one

@@ -5,7 +5,8 @@
 //! `ds/dt`, and the three together to the friction force `F_F` (which resists the relative
 //! motion) and the dissipated power `P_diss`.
 
-use super::{Params, Vector};
+use super::Vector;
+use crate::table::Params;
 
 /// Smallest deformation scale used to normalise errors when the law has no friction at all.
 const S_FLOOR: f64 = 1e-30;

@@ -10,10 +10,5 @@ mod vector;
 pub use law::{
     Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation, NO_FRICTION_LENGTH,
 };
-// The parameters live in `table`; name them from there. Only fmi/ (staging.rs, instance.rs,
-// model_exchange.rs, saved.rs) still reaches them through physics, its only arrows into
-// physics: once those four imports read `crate::table`, delete this line.
-#[doc(hidden)]
-pub use crate::table::{ParamId, Params};
 pub use support::{Harmonic, InputTrack};
 pub use vector::{Planar, Vector};

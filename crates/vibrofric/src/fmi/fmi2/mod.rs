@@ -1,6 +1,7 @@
-//! FMI 2.0 Co-Simulation: the C types, the functions and the states each is allowed in, the
-//! status queries, and the exported `extern "C"` functions (`ffi.rs`, the only `unsafe` code of
-//! the FMU). Everything else is the standard-neutral [`Instance`](super::Instance).
+//! FMI 2.0, Co-Simulation and Model Exchange: the C types, the functions and the states each
+//! is allowed in, the status queries, and the exported `extern "C"` functions (`ffi.rs`, the
+//! only `unsafe` code of the FMU). Everything else is the standard-neutral
+//! [`Instance`](super::Instance).
 
 pub mod co_simulation;
 #[allow(unsafe_code)]

@@ -3,7 +3,7 @@
 //!
 //! Enumerations that arrive from the importer (`fmi2Type`, `fmi2StatusKind`) and the status the
 //! FMU returns are plain `c_int`s here, never Rust enums: a Rust enum holding a value the
-//! importer made up would be undefined behaviour. [`crate::fmi::instance::Status`] is the safe
+//! importer made up would be undefined behaviour. [`crate::fmi::Status`] is the safe
 //! view of a status.
 #![allow(non_camel_case_types, non_upper_case_globals, non_snake_case)]
 
