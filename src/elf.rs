@@ -177,12 +177,6 @@ pub fn needs(bytes: &[u8]) -> Result<Needs, String> {
     Ok(out)
 }
 
-/// [`needs`] of a file.
-pub fn file_needs(path: &std::path::Path) -> Result<Needs, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    needs(&bytes).map_err(|e| format!("{}: {e}", path.display()))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -9,7 +9,7 @@ use vibrofric::description::variables::Causality;
 use vibrofric::description::{xml, xml3, Scene};
 use vibrofric_docs::docs;
 
-use crate::package::{read_binaries, write_fmu};
+use crate::package::write_fmu;
 use crate::platforms::{self, Request};
 use crate::self_check::{self_check, self_check_fmi3, self_check_model_exchange};
 use crate::{standard_scenes, SCENES_DIR};
@@ -53,7 +53,6 @@ pub fn export(
     }
     let names: Vec<&str> = shipped.iter().map(|s| s.platform.name()).collect();
     println!("platforms in each FMU: {}", names.join(", "));
-    let files = read_binaries(&shipped)?;
     let doc2: Vec<docs::Binary> = shipped.iter().map(|s| s.doc2.clone()).collect();
     let doc3: Vec<docs::Binary> = shipped.iter().map(|s| s.doc3.clone()).collect();
 
@@ -69,12 +68,11 @@ pub fn export(
         let id = &scene.model_identifier;
         let bins2: Vec<(String, &[u8])> = shipped
             .iter()
-            .zip(&files)
-            .map(|(s, (lib2, _))| {
+            .map(|s| {
                 let ext = s.platform.extension();
                 (
                     format!("binaries/{}/{id}.{ext}", s.platform.name()),
-                    &lib2[..],
+                    &s.fmi2.bytes[..],
                 )
             })
             .collect();
@@ -84,11 +82,10 @@ pub fn export(
         let fmu3 = out3.join(format!("{id}.fmu"));
         let bins3: Vec<(String, &[u8])> = shipped
             .iter()
-            .zip(&files)
-            .flat_map(|(s, (_, libs3))| {
+            .flat_map(|s| {
                 let ext = s.platform.extension();
-                s.fmi3.iter().zip(libs3).map(move |((folder, _), lib)| {
-                    (format!("binaries/{folder}/{id}.{ext}"), &lib[..])
+                s.fmi3.iter().map(move |(folder, lib)| {
+                    (format!("binaries/{folder}/{id}.{ext}"), &lib.bytes[..])
                 })
             })
             .collect();

@@ -9,27 +9,6 @@ use vibrofric::description::Scene;
 use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, DateTime, ZipWriter};
 
-use crate::platforms::Shipped;
-
-/// The bytes of each shipped library: the FMI 2.0 file and the FMI 3.0 files, per platform.
-pub type Binaries = Vec<(Vec<u8>, Vec<Vec<u8>>)>;
-
-pub fn read_binaries(shipped: &[Shipped]) -> Result<Binaries, String> {
-    let read =
-        |p: &Path| std::fs::read(p).map_err(|e| format!("{}: cannot read: {e}", p.display()));
-    shipped
-        .iter()
-        .map(|s| {
-            let libs3 = s
-                .fmi3
-                .iter()
-                .map(|(_, f)| read(f))
-                .collect::<Result<_, _>>()?;
-            Ok((read(&s.fmi2)?, libs3))
-        })
-        .collect()
-}
-
 /// Writes the FMU archive (to a temporary name first, so that a failed export leaves no
 /// half-written FMU behind).
 pub fn write_fmu(

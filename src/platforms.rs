@@ -107,16 +107,32 @@ impl Request {
 /// One platform's library as it goes into both editions of an FMU.
 pub struct Shipped {
     pub platform: Platform,
-    /// The file for the FMI 2.0 folder (`binaries/<platform>/`).
-    pub fmi2: PathBuf,
-    /// The FMI 3.0 folders (`binaries/<arch>-<os>/`) and the file each gets.
-    pub fmi3: Vec<(&'static str, PathBuf)>,
+    /// The library for the FMI 2.0 folder (`binaries/<platform>/`).
+    pub fmi2: Library,
+    /// The FMI 3.0 folders (`binaries/<arch>-<os>/`) and the library each gets.
+    pub fmi3: Vec<(&'static str, Library)>,
     /// What the exporter prints: where the library comes from and what it needs.
     pub line: String,
     /// What the FMU's documentation page says of it (the FMI 2.0 edition's folders).
     pub doc2: docs::Binary,
     /// The same for the FMI 3.0 edition.
     pub doc3: docs::Binary,
+}
+
+/// A built library, read once: its checks, the export check and the FMU archives all use
+/// these bytes.
+#[derive(Clone)]
+pub struct Library {
+    pub path: PathBuf,
+    pub bytes: Vec<u8>,
+}
+
+impl Library {
+    fn read(path: PathBuf) -> Result<Library, String> {
+        let bytes =
+            std::fs::read(&path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        Ok(Library { path, bytes })
+    }
 }
 
 /// Where this executable's cargo put its builds, and how to run cargo there.
@@ -408,14 +424,15 @@ fn linux(library: Option<&Path>, cargo: Result<&Cargo, &String>) -> Result<Shipp
             }
         }
     };
-    let needs = elf::file_needs(&lib)?;
+    let lib = Library::read(lib)?;
+    let needs = elf::needs(&lib.bytes).map_err(|e| format!("{}: {e}", lib.path.display()))?;
     let glibc = needs.max_glibc().map(|v| v.to_string());
     let need = glibc
         .as_deref()
         .map_or("no versioned glibc symbol".to_string(), |v| {
             format!("needs glibc >= {v}")
         });
-    let mut line = format!("linux64: {} ({source}): {need}", lib.display());
+    let mut line = format!("linux64: {} ({source}): {need}", lib.path.display());
     if source == "cargo-zigbuild" {
         line.push_str(&format!(
             " (built for glibc {PORTABLE_GLIBC}: RHEL 7/8, Ubuntu 18.04/20.04 and newer)"
@@ -469,8 +486,8 @@ fn windows(cargo: &Cargo) -> Result<Shipped, Missing> {
     }
     println!("win64: building the FMU library with mingw-w64 (target {WINDOWS_TARGET})");
     cargo.build(false, WINDOWS_TARGET, &[])?;
-    let lib = cargo.output(WINDOWS_TARGET, &lib_file(Platform::Win64))?;
-    let facts = read_checked(&lib)?;
+    let lib = Library::read(cargo.output(WINDOWS_TARGET, &lib_file(Platform::Win64))?)?;
+    let facts = checked(&lib)?;
     let doc = |folder| docs::Binary {
         folders: vec![folder],
         file_ext: "dll",
@@ -481,7 +498,11 @@ fn windows(cargo: &Cargo) -> Result<Shipped, Missing> {
     Ok(Shipped {
         platform: Platform::Win64,
         fmi3: vec![("x86_64-windows", lib.clone())],
-        line: format!("win64: {} (mingw-w64): {}", lib.display(), facts.summary()),
+        line: format!(
+            "win64: {} (mingw-w64): {}",
+            lib.path.display(),
+            facts.summary()
+        ),
         fmi2: lib,
         doc2: doc("win64"),
         doc3: doc("x86_64-windows"),
@@ -516,12 +537,12 @@ fn macos(cargo: &Cargo) -> Result<Shipped, Missing> {
         &[("MACOSX_DEPLOYMENT_TARGET", &deployment)],
     )?;
     let file = lib_file(Platform::Darwin64);
-    let universal = cargo.output("universal2-apple-darwin", &file)?;
-    let x86 = cargo.output(MACOS_TARGETS[0], &file)?;
-    let arm = cargo.output(MACOS_TARGETS[1], &file)?;
-    let facts = read_checked(&universal)?;
+    let universal = Library::read(cargo.output("universal2-apple-darwin", &file)?)?;
+    let x86 = Library::read(cargo.output(MACOS_TARGETS[0], &file)?)?;
+    let arm = Library::read(cargo.output(MACOS_TARGETS[1], &file)?)?;
+    let facts = checked(&universal)?;
     for thin in [&x86, &arm] {
-        read_checked(thin)?;
+        checked(thin)?;
     }
     let libraries = facts
         .slices
@@ -547,7 +568,7 @@ fn macos(cargo: &Cargo) -> Result<Shipped, Missing> {
         fmi3: vec![("x86_64-darwin", x86), ("aarch64-darwin", arm)],
         line: format!(
             "darwin64: {} (cargo-zigbuild): {}",
-            universal.display(),
+            universal.path.display(),
             facts.summary()
         ),
         fmi2: universal,
@@ -562,14 +583,14 @@ fn macos(cargo: &Cargo) -> Result<Shipped, Missing> {
     })
 }
 
-/// Reads a PE or Mach-O library and refuses one an importer could not load (the FMI functions
-/// are checked against the Linux library's in [`check_exports`]).
-fn read_checked(lib: &Path) -> Result<binary::Facts, String> {
-    let data = std::fs::read(lib).map_err(|e| format!("{}: cannot read: {e}", lib.display()))?;
-    let facts = binary::read(&data).map_err(|e| format!("{}: {e}", lib.display()))?;
+/// The facts of a PE or Mach-O library, refusing one an importer could not load (the FMI
+/// functions are checked against the other libraries' in [`check_exports`]).
+fn checked(lib: &Library) -> Result<binary::Facts, String> {
+    let at = lib.path.display();
+    let facts = binary::read(&lib.bytes).map_err(|e| format!("{at}: {e}"))?;
     let problems = facts.problems();
     if !problems.is_empty() {
-        return Err(format!("{}: {}", lib.display(), problems.join("; ")));
+        return Err(format!("{at}: {}", problems.join("; ")));
     }
     Ok(facts)
 }
@@ -580,12 +601,10 @@ fn read_checked(lib: &Path) -> Result<binary::Facts, String> {
 fn check_exports(shipped: &[Shipped]) -> Result<(), String> {
     let mut sets = vec![];
     for s in shipped {
-        for file in std::iter::once(&s.fmi2).chain(s.fmi3.iter().map(|(_, f)| f)) {
-            let data =
-                std::fs::read(file).map_err(|e| format!("{}: cannot read: {e}", file.display()))?;
-            let names =
-                binary::fmi_exports(&data).map_err(|e| format!("{}: {e}", file.display()))?;
-            sets.push((file.clone(), names));
+        for lib in std::iter::once(&s.fmi2).chain(s.fmi3.iter().map(|(_, l)| l)) {
+            let names = binary::fmi_exports(&lib.bytes)
+                .map_err(|e| format!("{}: {e}", lib.path.display()))?;
+            sets.push((&lib.path, names));
         }
     }
     let all: std::collections::BTreeSet<&String> = sets.iter().flat_map(|(_, n)| n).collect();
