@@ -127,7 +127,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let s_of = |xi: f64, sigma: f64| {
                 // Against the branch (a trial stage beyond a reversal) the expression grows
                 // exponentially: bounded, so that the error estimate rejects the step.
-                s0 - (sigma * len - s0) * libm::expm1((-sigma * xi * inv_len).min(50.0))
+                let e = (-sigma * xi * inv_len).min(50.0);
+                // Below −39, expm1 is −1 to the last bit: no call on a relaxed branch.
+                let em1 = if e < -39.0 { -1.0 } else { libm::expm1(e) };
+                s0 - (sigma * len - s0) * em1
             };
             // The support velocity at the stage times, recorded by the right-hand side.
             let vs_at = std::cell::Cell::new([0.0; 7]);
@@ -183,8 +186,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let u1 = step.end();
             // The error of s from that of ξ (ds/dξ is largest at the step's start, or its
             // end on a step that went a little against σ).
+            let back = -sigma * u1[0] * inv_len;
             let slope =
-                (1.0 - sigma * s0 * inv_len).abs() * libm::exp(-sigma * u1[0] * inv_len).max(1.0);
+                (1.0 - sigma * s0 * inv_len).abs() * if back > 0.0 { libm::exp(back) } else { 1.0 };
             let e = [
                 step.err[0] * slope / (rtol * (nom_s + s0.abs())),
                 step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),
