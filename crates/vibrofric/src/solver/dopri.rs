@@ -120,13 +120,13 @@ impl<const M: usize> DoPriStep<M> {
 }
 
 /// The step-size factor after an attempt with scaled error `err` (accept when ≤ 1): the
-/// fifth root with a safety factor, bounded to [0.2, 5].
+/// fifth root with a safety factor, bounded to [0.2, 10] (DOPRI5's bounds).
 pub fn factor(err: f64) -> f64 {
     if !err.is_finite() {
         return 0.2;
     }
     // err^(−1/5) through exp and log: a third of the cost of `pow`.
-    (0.9 * libm::exp(-0.2 * libm::log(err.max(1e-10)))).clamp(0.2, 5.0)
+    (0.9 * libm::exp(-0.2 * libm::log(err.max(1e-10)))).clamp(0.2, 10.0)
 }
 
 #[cfg(test)]
