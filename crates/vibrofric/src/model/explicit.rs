@@ -27,6 +27,10 @@ use crate::table::{Drive, InputId};
 /// at 1e-9; Radau: 2.0e-6 and 5.5e-9).
 const TOL_FRACTION: f64 = 0.5;
 
+/// The first step on a new branch as a fraction of the time its relaxation over one `s_ss`
+/// takes from rest (a whole one fails the error test by 20–100 on VibratingContact).
+const RELAX_FIRST: f64 = 0.4;
+
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
     /// True when this contact takes the explicit path: a force or spring drive, Dahl with
     /// `kappa = 1` at a constant load, and (planar scenes) the motion on x: no lateral
@@ -123,7 +127,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let s_of = |xi: f64, sigma: f64| {
                 // Against the branch (a trial stage beyond a reversal) the expression grows
                 // exponentially: bounded, so that the error estimate rejects the step.
-                s0 - (sigma * len - s0) * libm::expm1((-sigma * xi * inv_len).min(50.0))
+                let e = (-sigma * xi * inv_len).min(50.0);
+                // Below −39, expm1 is −1 to the last bit: no call on a relaxed branch.
+                let em1 = if e < -39.0 { -1.0 } else { libm::expm1(e) };
+                s0 - (sigma * len - s0) * em1
             };
             // The support velocity at the stage times, recorded by the right-hand side.
             let vs_at = std::cell::Cell::new([0.0; 7]);
@@ -179,8 +186,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let u1 = step.end();
             // The error of s from that of ξ (ds/dξ is largest at the step's start, or its
             // end on a step that went a little against σ).
+            let back = -sigma * u1[0] * inv_len;
             let slope =
-                (1.0 - sigma * s0 * inv_len).abs() * libm::exp(-sigma * u1[0] * inv_len).max(1.0);
+                (1.0 - sigma * s0 * inv_len).abs() * if back > 0.0 { libm::exp(back) } else { 1.0 };
             let e = [
                 step.err[0] * slope / (rtol * (nom_s + s0.abs())),
                 step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),
@@ -253,10 +261,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 event_target = None;
                 h_new = h_new.max(h);
                 // The new branch relaxes over one s_ss of relative displacement, which from
-                // rest takes sqrt(2·s_ss/|dv_r/dt|): no longer first step (a stiff contact
-                // would otherwise pay for it in rejected steps).
+                // rest takes sqrt(2·s_ss/|dv_r/dt|): the first step a fraction of that (a
+                // stiff contact would otherwise pay for it in rejected steps).
                 let dvr = (step.k[6][0] - step.k[4][0]) / ((1.0 - C[4]) * hh);
-                let relax = (2.0 * len / dvr.abs()).sqrt();
+                let relax = RELAX_FIRST * (2.0 * len / dvr.abs()).sqrt();
                 if relax.is_finite() && relax > 0.0 {
                     h_new = h_new.min(relax);
                 }
