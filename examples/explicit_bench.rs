@@ -1,6 +1,6 @@
-//! The scenes whose body moves, on the path each takes, in CPU time (this process's user and
-//! system time from /proc/self/stat, in clock ticks: runs repeat until 0.5 s of it add up, so
-//! that other work on a shared machine counts little):
+//! The scenes whose body moves, on the path each takes, in CPU time (this process's, with
+//! runs repeated until 0.5 s of it add up, so that other work on a shared machine counts
+//! little):
 //! per vibration period at tolerances 1e-6 and 1e-8 over `T` seconds in communication steps of
 //! 1 ms, the largest `F_Fx` error at the communication points against Radau IIA at 1e-12, and
 //! the cost at `k_t` = 1e12 against 1e8 (tolerance 1e-6, 0.1 s).
@@ -8,34 +8,18 @@
 //! cargo run --release --example explicit_bench [T [NAME]]   (T = 1 by default; only the
 //! scene NAME)
 
-use std::path::Path;
+#[path = "../tests/support/scenes.rs"]
+#[allow(dead_code)]
+mod scenes;
 
+use cpu_time::ProcessTime;
 use vibrofric::description::scene::Scene;
-use vibrofric::model::{build, build_on, Drive, InputId, Path as SolverPath};
-use vibrofric::physics::Params;
+use vibrofric::model::{Drive, Path as SolverPath, Setup};
+use vibrofric::table::Params;
 
-/// CPU time of this process in seconds (Linux, 100 ticks per second); wall time elsewhere.
+/// CPU time of this process in seconds.
 fn cpu() -> f64 {
-    std::fs::read_to_string("/proc/self/stat")
-        .ok()
-        .and_then(|s| {
-            // The fields after the command's closing parenthesis: utime and stime are the
-            // 12th and 13th.
-            let rest = &s[s.rfind(')')? + 2..];
-            let f: Vec<f64> = rest
-                .split_whitespace()
-                .skip(11)
-                .take(2)
-                .filter_map(|x| x.parse().ok())
-                .collect();
-            (f.len() == 2).then(|| (f[0] + f[1]) * 0.01)
-        })
-        .unwrap_or_else(|| {
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .unwrap()
-                .as_secs_f64()
-        })
+    ProcessTime::now().as_duration().as_secs_f64()
 }
 
 /// Mean CPU time of at least `runs` runs to `t_end` (more until 0.5 s add up), the path,
@@ -54,16 +38,15 @@ fn run(
     let mut done = 0;
     while done < runs.max(1) || (runs > 0 && cpu() - start < 0.5) {
         done += 1;
+        let setup = Setup::new(scene.config, params)
+            .inputs(scene.inputs)
+            .tolerance(tol);
         let mut sim = match path {
-            Some(p) => build_on(scene.config, params, 0.0, tol, p),
-            None => build(scene.config, params, 0.0, tol),
+            Some(p) => setup.on(p),
+            None => setup,
         }
+        .build()
         .unwrap();
-        for id in InputId::ALL {
-            if id.present(&scene.config) {
-                sim.set_input(id, id.get(&scene.inputs)).unwrap();
-            }
-        }
         let mut f = Vec::with_capacity(n);
         for k in 1..=n {
             sim.step_to(k as f64 * 1e-3).unwrap();
@@ -82,14 +65,7 @@ fn main() {
     println!("| scene | path | tol | µs/period | steps/period | max F_Fx error / F_C |");
     println!("|---|---|---|---|---|---|");
     let mut ratios = vec![];
-    let mut files: Vec<_> = std::fs::read_dir("scenes")
-        .expect("run from the repository root")
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
-        .collect();
-    files.sort();
-    for file in files {
-        let scene = Scene::load(Path::new(&file)).unwrap();
+    for (_, scene) in scenes::standard_scenes() {
         if scene.config.drive == Drive::Velocity
             || (!only.is_empty() && scene.model_identifier != only)
         {
@@ -120,12 +96,10 @@ fn main() {
         }
         let cost = |k_t: f64| {
             let q = Params { k_t, ..p };
-            let mut sim = build(scene.config, q, 0.0, 1e-6).unwrap();
-            for id in InputId::ALL {
-                if id.present(&scene.config) {
-                    sim.set_input(id, id.get(&scene.inputs)).unwrap();
-                }
-            }
+            let mut sim = Setup::new(scene.config, q)
+                .inputs(scene.inputs)
+                .build()
+                .unwrap();
             for k in 1..=100 {
                 sim.step_to(k as f64 * 1e-3).unwrap();
             }
