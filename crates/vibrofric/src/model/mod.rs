@@ -25,6 +25,7 @@ mod dynamics;
 mod exact;
 mod exchange;
 mod explicit;
+mod explicit_planar;
 mod ode;
 mod simulator;
 mod snapshot;
