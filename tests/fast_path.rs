@@ -173,9 +173,10 @@ fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
 }
 
 /// The planar explicit path (a moving body on a planar Dahl contact, off the x axis) at
-/// tolerance 1e-10 against Radau at 1e-12, at `k_t` = 1e8 and 1e9, with held inputs: both
-/// friction components, their window and step means, the deformation and the body's position
-/// and velocity in x and y. At 1e11 the contact is too stiff for it and Radau takes over.
+/// tolerance 1e-10 against Radau at 1e-12, at `k_t` = 1e8 and 1e11 (the deformation then
+/// advanced exponentially in the relaxation arc length), with held inputs: both friction
+/// components, their window and step means, the deformation and the body's position and
+/// velocity in x and y.
 #[test]
 fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
     let planar: Vec<Scene> = scenes()
@@ -184,10 +185,7 @@ fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
         .collect();
     assert_eq!(planar.len(), 2);
     for mut scene in planar {
-        scene.start.k_t = 1e11;
-        let stiff = build(scene.config, scene.start, 0.0, 1e-6).unwrap();
-        assert_eq!(stiff.path(), Path::Radau, "{}", scene.model_identifier);
-        for k_t in [1e8, 1e9] {
+        for k_t in [1e8, 1e11] {
             scene.start.k_t = k_t;
             let f_c = scene.start.f_c();
             let s_ss = f_c / k_t;
