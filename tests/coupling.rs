@@ -169,6 +169,35 @@ fn force_drive_momentum_balance_holds_over_every_step() {
     }
 }
 
+/// A body free in y (the transverse scenes, on the planar explicit path, at the default and at
+/// a stiff contact): `m·Δv_y = −∫F_Fy dt` over every step.
+#[test]
+fn lateral_momentum_balance_holds_over_every_step() {
+    let tol = 1e-8;
+    for file in ["paper-transverse.toml", "rig-transverse.toml"] {
+        for k_t in [1e8, 1e12] {
+            let mut sc = scene(file);
+            sc.start.k_t = k_t;
+            let p = sc.start;
+            let mut sim = start(&sc, tol);
+            let h = 7e-4;
+            let mut worst: f64 = 0.0;
+            for k in 0..60 {
+                let before = sim.outputs();
+                sim.step_to((k + 1) as f64 * h).unwrap();
+                let after = sim.outputs();
+                let ey = p.m * (after.v_y - before.v_y) + after.f_fy_step * h;
+                worst = worst.max(ey.abs() / (p.f_c() * h));
+            }
+            eprintln!("{file} k_t {k_t:e}: lateral momentum balance within {worst:e} F_C·h");
+            assert!(
+                worst <= 10.0 * tol,
+                "{file} k_t {k_t:e}: lateral momentum balance off by {worst:e} F_C·h"
+            );
+        }
+    }
+}
+
 /// `(y(t + δ) − y(t))/δ` extrapolated to δ → 0 (Richardson on δ and δ/2): O(δ²).
 fn richardson(at: impl Fn(f64) -> f64, y0: f64, delta: f64) -> f64 {
     let d1 = (at(delta) - y0) / delta;

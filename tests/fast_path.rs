@@ -60,7 +60,7 @@ fn stiff_fast_paths_agree_with_radau() {
             s
         })
         .collect();
-    assert_eq!(stiff.len(), 4);
+    assert_eq!(stiff.len(), 6);
     compare(stiff);
 }
 
@@ -74,7 +74,11 @@ fn compare(scenes: Vec<Scene>) {
                 // The explicit path is about 100× more accurate than Radau at equal tolerance
                 // (with a ramped force, Radau at 1e-9 is 8e-8·F_C from the truth): it is held
                 // to Radau at 1e-12 instead.
-                let reference_tol = if path == Path::Explicit { 1e-12 } else { tol };
+                let reference_tol = if matches!(path, Path::Explicit | Path::ExplicitPlanar) {
+                    1e-12
+                } else {
+                    tol
+                };
                 let (radau, _) = run(&scene, Path::Radau, reference_tol, ramp);
                 let name = &scene.model_identifier;
                 for (k, (a, b)) in fast.iter().zip(&radau).enumerate() {
@@ -112,6 +116,7 @@ fn each_standard_scene_takes_the_path_its_structure_allows() {
             "PaperLongitudinal" => Path::ClosedForm,
             "PaperTransverseGuided" => Path::Exponential,
             "VibratingContact" | "RigLongitudinal" => Path::Explicit,
+            "PaperTransverse" | "RigTransverse" => Path::ExplicitPlanar,
             _ => Path::Radau,
         };
         assert_eq!(sim.path(), expected, "{}", scene.model_identifier);
@@ -154,6 +159,52 @@ fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
                     assert!((x - y).abs() <= bound, "{what}: {q} {x} vs {y}");
                 }
                 assert_eq!((a.f_fy, a.s_y, a.v_y), (0.0, 0.0, 0.0), "{what}: lateral");
+            }
+        }
+    }
+}
+
+/// The planar explicit path (a moving body on a planar Dahl contact, off the x axis) at
+/// tolerance 1e-10 against Radau at 1e-12, at `k_t` = 1e8 and 1e11 (the deformation then
+/// advanced exponentially in the relaxation arc length), with held inputs: both friction
+/// components, their window and step means, the deformation and the body's position and
+/// velocity in x and y.
+#[test]
+fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
+    let planar: Vec<Scene> = scenes()
+        .into_iter()
+        .filter(|s| build(s.config, s.start, 0.0, 1e-6).unwrap().path() == Path::ExplicitPlanar)
+        .collect();
+    assert_eq!(planar.len(), 2);
+    for mut scene in planar {
+        for k_t in [1e8, 1e11] {
+            scene.start.k_t = k_t;
+            let f_c = scene.start.f_c();
+            let s_ss = f_c / k_t;
+            let v_a = std::f64::consts::TAU * scene.start.f * scene.start.u0;
+            let v_nom = v_a.max(s_ss * (k_t / scene.start.m).sqrt());
+            let x_nom = s_ss.max(scene.start.u0);
+            let (fast, path) = run(&scene, Path::ClosedForm, 1e-10, false);
+            assert_eq!(path, Path::ExplicitPlanar);
+            let (radau, _) = run(&scene, Path::Radau, 1e-12, false);
+            let name = &scene.model_identifier;
+            for (k, (a, b)) in fast.iter().zip(&radau).enumerate() {
+                let what = format!("{name} k_t {k_t:e} at {} ms", k + 1);
+                for (q, x, y, bound) in [
+                    ("F_Fx", a.f_fx, b.f_fx, 1e-9 * f_c),
+                    ("F_Fy", a.f_fy, b.f_fy, 1e-9 * f_c),
+                    ("F_mean", a.f_mean, b.f_mean, 1e-9 * f_c),
+                    ("F_Fx_step", a.f_fx_step, b.f_fx_step, 1e-9 * f_c),
+                    ("F_Fy_step", a.f_fy_step, b.f_fy_step, 1e-9 * f_c),
+                    ("s_x", a.s_x, b.s_x, 1e-9 * s_ss),
+                    ("s_y", a.s_y, b.s_y, 1e-9 * s_ss),
+                    ("x", a.x, b.x, 1e-9 * (x_nom + b.x.abs())),
+                    ("y", a.y, b.y, 1e-9 * (x_nom + b.y.abs())),
+                    ("v_x", a.v_x, b.v_x, 1e-9 * (v_nom + b.v_x.abs())),
+                    ("v_y", a.v_y, b.v_y, 1e-9 * (v_nom + b.v_y.abs())),
+                ] {
+                    assert!((x - y).abs() <= bound, "{what}: {q} {x} vs {y}");
+                }
             }
         }
     }

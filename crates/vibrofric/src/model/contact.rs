@@ -375,11 +375,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     /// window and the communication step.
     fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
         let fast = self.exact_path().is_some() || self.exp_path();
-        if fast || self.explicit_path() {
+        let explicit = !fast && self.explicit_path();
+        if fast || explicit || self.planar_explicit_path() {
             let integral = if fast {
                 self.advance_window(t_target, h_max)?.1
-            } else {
+            } else if explicit {
                 self.advance_explicit(t_target, h_max)?
+            } else {
+                self.advance_planar(t_target, h_max)?
             };
             self.window.acc += integral[0];
             self.step.acc[0] += integral[0];
@@ -767,6 +770,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             Path::Exponential
         } else if self.explicit_path() {
             Path::Explicit
+        } else if self.planar_explicit_path() {
+            Path::ExplicitPlanar
         } else {
             Path::Radau
         }

@@ -27,6 +27,7 @@ mod dynamics;
 mod exact;
 mod exchange;
 mod explicit;
+mod explicit_planar;
 mod ode;
 mod setup;
 mod simulator;

@@ -1,0 +1,451 @@
+//! The explicit path of a moving body on a planar Dahl contact (`kappa = 1`): force or spring
+//! drive, or a velocity drive with the lateral motion free, whenever the motion leaves the x
+//! axis (on the axis the closed form of `explicit.rs` applies). The body, the integrals
+//! `∫F_Fx dt`, `∫F_Fy dt` and the relaxation arc length `λ = ∫|v_r|/s_ss dt` are integrated by
+//! Dormand–Prince 5(4) with error control on the state; the integrals ride along with the
+//! fifth-order weights and do not steer the step.
+//!
+//! The deformation obeys `ds/dλ = q − s` in `λ`, with the target `q = s_ss·v_r/|v_r|`: it
+//! relaxes at the rate `|v_r|/s_ss` in time, which at a stiff contact is far beyond any step
+//! the body's motion asks for. Where a step spans a relaxation of [`EXPONENTIAL_FROM`] or more,
+//! `s` is advanced exactly for `q` interpolated in `λ` (a polynomial through six points):
+//! `s = P(λ) + (s0 − P(0))·exp(−λ)`, `P` the polynomial particular solution, of the same cost
+//! at any `k_t`. The stages of the explicit method know the body's velocity to low order only,
+//! so the step is taken twice: the first pass interpolates `q` through the stages so far, the
+//! second through six points of the first pass's continuous extension; the deformation at the
+//! end comes from the second pass's extension, its error from the interpolant of one degree
+//! less. Shorter steps integrate `s` as one more component of the explicit method.
+//!
+//! The deformation's rate `v_r − |v_r|·s/s_ss` is Lipschitz continuous everywhere (its kink
+//! where `v_r` passes through zero in the plane is a point, found by the error control). While
+//! the body sticks it sits on the contact as on a spring `k_t`: the explicit method then steps
+//! at about `3/sqrt(k_t/m)`, which the error control finds by itself; the path is taken while
+//! that allows enough steps per averaging window ([`STIFF_LIMIT`]), and Radau IIA takes the
+//! rest.
+
+use super::contact::Contact;
+use super::drive::DriveKind;
+use super::dynamics::System;
+use super::simulator::SimError;
+use crate::physics::{FrictionLaw, Vector};
+use crate::solver::dopri::{factor, DoPriStep, C};
+use crate::solver::{OdeSystem, Quad, SolverError};
+
+/// Width of the integrated vector: the largest state (6), the two integrals and the relaxation
+/// arc length `λ = ∫|v_r|/s_ss dt` over the step.
+const M: usize = 9;
+
+/// The relaxation over a step (`|v_r|·h/s_ss` at its start) from which the deformation is
+/// advanced exponentially in `λ` instead of as one more component of the explicit method. Below
+/// it the explicit method is accurate and about six times cheaper per step (an exponential step
+/// is taken twice and interpolates); at the default `k_t` = 1e8 nearly every step is below it,
+/// from about 1e10 on nearly every step above.
+const EXPONENTIAL_FROM: f64 = 0.5;
+
+/// The error control's tolerance as a fraction of the user's, on the largest scaled error of
+/// the state's components: the global errors of `F_Fx` and `F_Fy` are then at or below
+/// Radau's at the same tolerance (measured on PaperTransverse and RigTransverse against a
+/// tolerance-1e-12 run, 0.05 s: at 1e-6, `F_Fx` 3.1e-9 and 3.6e-8 of `F_C` against Radau's
+/// 3.0e-8 and 3.2e-8, `F_Fy` 2.9e-8 and 3.9e-7 against 3.5e-8 and 2.1e-6).
+const TOL_FRACTION: f64 = 0.1;
+
+/// The largest product of the oscillation rate of a stuck body, `sqrt(k_t/m)`, and the
+/// averaging window for which the planar explicit path is taken: while the body sticks the
+/// explicit method steps at about `3/sqrt(k_t/m)` (about 300 steps per window at the limit);
+/// the relaxation `|v_r|/s_ss`, however fast, is advanced exponentially. At 2 kHz the limit
+/// is beyond `k_t` = 1e13 for the default mass.
+pub(super) const STIFF_LIMIT: f64 = 1000.0;
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
+    /// True when this contact takes the planar explicit path: a planar Dahl contact with
+    /// `kappa = 1` at a constant load whose body moves (force, spring or free lateral motion),
+    /// whose stuck oscillation is not fast on the scale of the averaging window
+    /// ([`STIFF_LIMIT`]).
+    pub(super) fn planar_explicit_path(&self) -> bool {
+        if V::DIM != 2 || D::N_BODY == 0 || self.radau_only || self.dynamics.load.is_some() {
+            return false;
+        }
+        let Some(relax) = self.dynamics.law.relaxation() else {
+            return false;
+        };
+        if relax.exponent != 1.0 {
+            return false;
+        }
+        (relax.stiffness / self.params.m).sqrt() * self.window.len <= STIFF_LIMIT
+    }
+
+    /// Advances the planar explicit path to `t_target`: `∫F_F dt` over the call.
+    pub(super) fn advance_planar(&mut self, t_target: f64, h_max: f64) -> Result<Quad, SimError> {
+        let tol = self.radau.tolerance();
+        let rtol = (TOL_FRACTION * tol).max(1e-14);
+        let dynamics = self.dynamics;
+        let scale = self.scale;
+        let sys = System::new(
+            &dynamics,
+            self.config.input_support,
+            &scale,
+            self.force_scale,
+            self.switch_scale,
+        );
+        let bound = dynamics.law.bound();
+        let len = dynamics
+            .law
+            .relaxation()
+            .expect("planar explicit path without a relaxation")
+            .length;
+        let inv_len = 1.0 / len;
+        let rhs = |tt: f64, u: &[f64; M]| -> [f64; M] {
+            let e = sys.eval(tt, &u[..N]);
+            let r = sys.rhs_at::<N>(&e, &u[..N]);
+            let mut out = [0.0; M];
+            out[..N].copy_from_slice(r.as_slice());
+            out[N] = e.f.x();
+            out[N + 1] = e.f.y();
+            out[N + 2] = e.vr.norm() * inv_len;
+            out
+        };
+        let mut rhs = rhs;
+        let mut t = self.radau.t;
+        let mut u = [0.0; M];
+        u[..N].copy_from_slice(self.radau.y.as_slice());
+        let mut integral = [0.0; 2];
+        let mut h = self.exp_h;
+        let mut fsal: Option<[f64; M]> = None;
+        let mut rejected = false;
+        let limit = self.radau.step_limit;
+        let stats = &mut self.radau.stats;
+        while t < t_target {
+            if stats.steps + stats.rejected >= limit {
+                return Err(SimError::Solver(SolverError::WorkLimit {
+                    t,
+                    limit: limit as f64,
+                }));
+            }
+            u[N] = 0.0;
+            u[N + 1] = 0.0;
+            u[N + 2] = 0.0;
+            let k1 = match fsal {
+                Some(k) => k,
+                None => {
+                    stats.rhs_evals += 1;
+                    rhs(t, &u)
+                }
+            };
+            if !k1.iter().all(|z| z.is_finite()) {
+                return Err(SimError::Solver(SolverError::NonFinite { t }));
+            }
+            if h <= 0.0 {
+                let d = (0..N)
+                    .map(|i| (k1[i] / scale[i]).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                h = if d > 0.0 {
+                    1e-2 / d * libm::pow(tol, 0.2)
+                } else {
+                    h_max
+                };
+            }
+            let mut hh = h.min(h_max);
+            let mut last = false;
+            if t + 1.0001 * hh >= t_target {
+                hh = t_target - t;
+                last = true;
+            }
+            if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
+                return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
+            }
+            let mut err: f64 = 0.0;
+            let exponential = k1[N + 2] * hh >= EXPONENTIAL_FROM;
+            let (step, mut u1) = if exponential {
+                // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
+                // the target `q = s_ss·v_r/|v_r|` interpolated in λ through the stages so far
+                // (their λ from the method's own stages of `dλ/dt = |v_r|/s_ss`): exact for
+                // that polynomial whatever the relaxation over the step.
+                let mut hist = Stages {
+                    lam: [0.0; 7],
+                    q: [[0.0; 2]; 7],
+                    s0: [u[0], if V::DIM == 2 { u[1] } else { 0.0 }],
+                    n: 1,
+                    bad: false,
+                };
+                hist.q[0] = target(Self::relative_velocity(&sys, t, &u), len);
+                let step = {
+                    let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
+                        let i = hist.n;
+                        hist.n += 1;
+                        hist.lam[i] = y[N + 2];
+                        hist.q[i] = target(Self::relative_velocity(&sys, tt, y), len);
+                        let s_i = if i == 6 {
+                            hist.relax(&[0, 1, 2, 3, 4, 6])
+                        } else {
+                            hist.relax(&[0, 1, 2, 3, 4, 5][..=i])
+                        };
+                        let mut z = *y;
+                        z[..V::DIM].copy_from_slice(&s_i[..V::DIM]);
+                        rhs(tt, &z)
+                    };
+                    DoPriStep::take(&mut stage, t, &u, &k1, hh)
+                };
+                // The stages' velocities are of low order: a second pass with the deformation
+                // at each stage from the first pass's continuous extension (q at six
+                // equidistant points, the ends exact, λ from the same extension).
+                let mut first = Self::nodes(&sys, &step, t, hh, hist.s0, hist.q[0], len);
+                first.bad |= hist.bad;
+                let fit = first.fit(&[0, 1, 2, 3, 4, 5]);
+                let big = first.lam[5];
+                let step = match &fit {
+                    Some(fit) => {
+                        let (mut i, mut stage2) = (1, [0.0; 7]);
+                        for (k, c) in C.iter().enumerate() {
+                            stage2[k] = step.dense(N + 2, hh, *c) / big;
+                        }
+                        let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
+                            let s_i = fit.at(stage2[i]);
+                            i += 1;
+                            let mut z = *y;
+                            z[..V::DIM].copy_from_slice(&s_i[..V::DIM]);
+                            rhs(tt, &z)
+                        };
+                        stats.rhs_evals += 6;
+                        DoPriStep::take(&mut stage, t, &u, &k1, hh)
+                    }
+                    None => step,
+                };
+                let mut u1 = step.end();
+                let mut fine = Self::nodes(&sys, &step, t, hh, hist.s0, hist.q[0], len);
+                fine.bad |= first.bad;
+                let s5 = fine.relax(&[0, 1, 2, 3, 4, 5]);
+                let s4 = fine.relax(&[0, 2, 3, 4, 5]);
+                let bad = fine.bad;
+                u1[..V::DIM].copy_from_slice(&s5[..V::DIM]);
+                for c in 0..V::DIM {
+                    let w = rtol * (scale[c] + u[c].abs().max(s5[c].abs()));
+                    err = err.max((s5[c] - s4[c]).abs() / w);
+                }
+                // λ places the interpolation's nodes: its error relative to the step's λ.
+                err = err.max(step.err[N + 2].abs() / (rtol * u1[N + 2].max(1.0)));
+                if bad {
+                    err = f64::INFINITY;
+                }
+                (step, u1)
+            } else {
+                let step = DoPriStep::take(&mut rhs, t, &u, &k1, hh);
+                let u1 = step.end();
+                for c in 0..V::DIM {
+                    let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
+                    err = err.max((step.err[c] / w).abs());
+                }
+                (step, u1)
+            };
+            stats.rhs_evals += 6;
+            for i in V::DIM..N {
+                let w = rtol * (scale[i] + u[i].abs().max(u1[i].abs()));
+                err = err.max((step.err[i] / w).abs());
+            }
+            let err = if u1.iter().all(|z| z.is_finite()) && err.is_finite() {
+                err
+            } else {
+                f64::INFINITY
+            };
+            if err > 1.0 {
+                stats.rejected += 1;
+                h = hh * factor(err).min(0.9);
+                rejected = true;
+                fsal = Some(k1);
+                continue;
+            }
+            stats.steps += 1;
+            u1[N + 2] = 0.0;
+            integral[0] += u1[N];
+            integral[1] += u1[N + 1];
+            u = u1;
+            // After an exponential step the end's deformation is not the last stage's.
+            fsal = (!exponential).then_some(step.k[6]);
+            t = if last { t_target } else { t + hh };
+            // |s| ≤ s_ss holds for the equation; the step may overshoot it by its error.
+            if let Some(b) = bound {
+                let s = V::read(&u[..V::DIM]);
+                let n = s.norm();
+                if n > b {
+                    (s * (b / n)).write(&mut u[..V::DIM]);
+                    fsal = None;
+                }
+            }
+            let mut h_new = hh * factor(err);
+            if rejected {
+                h_new = h_new.min(hh);
+            }
+            rejected = false;
+            if last && hh < h {
+                h_new = h_new.max(h);
+            }
+            h = h_new;
+        }
+        let mut y = self.radau.y;
+        y.as_mut_slice().copy_from_slice(&u[..N]);
+        OdeSystem::<N>::project(&self.system(), t_target, &mut y);
+        self.radau.y = y;
+        self.radau.t = t_target;
+        self.radau.restart();
+        self.exp_h = h;
+        Ok(integral)
+    }
+}
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
+    /// λ and `q` at six equidistant points of a step from its continuous extension (the
+    /// start's `q` given, the end's from the end state).
+    #[allow(clippy::too_many_arguments)]
+    fn nodes(
+        sys: &System<'_, V, L, D>,
+        step: &DoPriStep<M>,
+        t: f64,
+        hh: f64,
+        s0: [f64; 2],
+        q0: [f64; 2],
+        len: f64,
+    ) -> Stages {
+        let mut fine = Stages {
+            lam: [0.0; 7],
+            q: [[0.0; 2]; 7],
+            s0,
+            n: 0,
+            bad: false,
+        };
+        fine.q[0] = q0;
+        let end = step.end();
+        fine.lam[5] = end[N + 2];
+        fine.q[5] = target(Self::relative_velocity(sys, t + hh, &end), len);
+        for k in 1..5 {
+            let theta = k as f64 * 0.2;
+            let mut z = end;
+            for (i, zi) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
+                *zi = step.dense(i, hh, theta);
+            }
+            fine.lam[k] = step.dense(N + 2, hh, theta);
+            fine.q[k] = target(Self::relative_velocity(sys, t + theta * hh, &z), len);
+        }
+        fine
+    }
+
+    /// `v_r` at `(t, u)`.
+    #[inline(always)]
+    fn relative_velocity(sys: &System<'_, V, L, D>, t: f64, u: &[f64; M]) -> V {
+        let d = sys.dynamics.drive_inputs(t);
+        sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - sys.support(t)
+    }
+}
+
+/// Where the deformation relaxes to at `v_r`: `s_ss·v_r/|v_r|` (0 at `v_r` = 0).
+#[inline(always)]
+fn target<V: Vector>(vr: V, len: f64) -> [f64; 2] {
+    let w = vr.norm();
+    if w > 0.0 {
+        let q = vr * (len / w);
+        [q.x(), q.y()]
+    } else {
+        [0.0; 2]
+    }
+}
+
+/// The stages of one exponential step: `λ` and the target `q` at each, the deformation at the
+/// step's start, and at its end from the interpolants of degree 5 and 4.
+struct Stages {
+    lam: [f64; 7],
+    q: [[f64; 2]; 7],
+    s0: [f64; 2],
+    n: usize,
+    /// The nodes were not increasing in λ: the step is rejected.
+    bad: bool,
+}
+
+impl Stages {
+    /// `s` at the last of `nodes` (see [`Fit`]).
+    fn relax(&mut self, nodes: &[usize]) -> [f64; 2] {
+        match self.fit(nodes) {
+            Some(f) => f.at(1.0),
+            None => self.s0,
+        }
+    }
+
+    /// The interpolant of `q` through `nodes` in `μ = λ/Λ`, `Λ` the last node's `λ`; `None`
+    /// (and the step marked bad) where the nodes do not increase in λ.
+    fn fit(&mut self, nodes: &[usize]) -> Option<Fit> {
+        let n = nodes.len();
+        let big = self.lam[nodes[n - 1]];
+        let mut mu = [0.0; 6];
+        for (k, &j) in nodes.iter().enumerate() {
+            mu[k] = self.lam[j] / big;
+            if k > 0 && mu[k] <= mu[k - 1] {
+                self.bad = true;
+            }
+        }
+        if self.bad || big.is_nan() || big <= 0.0 {
+            self.bad = true;
+            return None;
+        }
+        let mut poly = [[0.0; 6]; 2];
+        for (c, pc) in poly.iter_mut().enumerate() {
+            // Divided differences, then the monomial coefficients by Horner on the Newton form.
+            let mut dd = [0.0; 6];
+            for (k, &j) in nodes.iter().enumerate() {
+                dd[k] = self.q[j][c];
+            }
+            for k in 1..n {
+                for j in (k..n).rev() {
+                    dd[j] = (dd[j] - dd[j - 1]) / (mu[j] - mu[j - k]);
+                }
+            }
+            pc[0] = dd[n - 1];
+            for i in (0..n - 1).rev() {
+                for m in (1..n).rev() {
+                    pc[m] = pc[m - 1] - mu[i] * pc[m];
+                }
+                pc[0] = -mu[i] * pc[0] + dd[i];
+            }
+        }
+        Some(Fit {
+            poly,
+            n,
+            big,
+            s0: self.s0,
+        })
+    }
+}
+
+/// The solution of `ds/dλ = p(λ) − s`, `s(0) = s0`, `p` a polynomial of degree `n − 1` in
+/// `μ = λ/Λ`: `s = P(λ) + (s0 − P(0))·exp(−λ)` with the polynomial particular solution
+/// `P = Σ_k (−1)^k·d^k p/dλ^k`. Its terms shrink with `1/Λ`; the exponential path is taken
+/// from a relaxation of [`EXPONENTIAL_FROM`] per step on.
+struct Fit {
+    poly: [[f64; 6]; 2],
+    n: usize,
+    big: f64,
+    s0: [f64; 2],
+}
+
+impl Fit {
+    /// `s` at `λ = μ·Λ`.
+    fn at(&self, mu: f64) -> [f64; 2] {
+        // G_m(μ) = Σ_k (−x)^k·m!/(m − k)!·μ^(m−k) = μ^m − x·m·G_(m−1)(μ), x = 1/Λ; at μ = 0
+        // it is (−x)^m·m!.
+        let x = 1.0 / self.big;
+        let (mut g, mut g0, mut pw) = ([1.0; 6], [1.0; 6], 1.0);
+        for m in 1..self.n {
+            pw *= mu;
+            g[m] = pw - x * m as f64 * g[m - 1];
+            g0[m] = -x * m as f64 * g0[m - 1];
+        }
+        let decay = libm::exp(-self.big * mu);
+        let mut out = [0.0; 2];
+        for (c, o) in out.iter_mut().enumerate() {
+            let (mut p, mut p0) = (0.0, 0.0);
+            for m in 0..self.n {
+                p += self.poly[c][m] * g[m];
+                p0 += self.poly[c][m] * g0[m];
+            }
+            *o = p + (self.s0[c] - p0) * decay;
+        }
+        out
+    }
+}
