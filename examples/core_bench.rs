@@ -12,11 +12,11 @@ mod configs;
 mod reference;
 
 use std::time::Instant;
-use vibrofric::model::{build_on, InputId, Law, Path, StepStats};
+use vibrofric::model::{build_on, InputId, Integrator, Law, StepStats};
 use vibrofric::table::Params;
 
 /// Best of 5 runs: (F_mean, seconds, work).
-fn run(params: Params, tol: f64, path: Path, step: f64) -> (f64, f64, StepStats) {
+fn run(params: Params, tol: f64, path: Integrator, step: f64) -> (f64, f64, StepStats) {
     let config = configs::long_velocity(Law::Dahl);
     let mut best = f64::INFINITY;
     let mut out = (0.0, Default::default());
@@ -42,9 +42,9 @@ fn main() {
         exact / p.f_c()
     );
     let modes = [
-        ("closed form, 1 step", Path::ClosedForm, 1.0),
-        ("closed form, per period", Path::ClosedForm, 5e-4),
-        ("Radau, 1 step", Path::Radau, 1.0),
+        ("closed form, 1 step", Integrator::ClosedForm, 1.0),
+        ("closed form, per period", Integrator::ClosedForm, 5e-4),
+        ("Radau, 1 step", Integrator::Radau, 1.0),
     ];
     println!(
         "{:>24} {:>8} {:>12} {:>10} {:>8} {:>8} {:>8}",

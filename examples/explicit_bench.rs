@@ -14,7 +14,7 @@ mod scenes;
 
 use cpu_time::ProcessTime;
 use vibrofric::description::scene::Scene;
-use vibrofric::model::{Drive, Path as SolverPath, Setup};
+use vibrofric::model::{Drive, Integrator, Setup};
 use vibrofric::table::Params;
 
 /// CPU time of this process in seconds.
@@ -29,10 +29,10 @@ fn run(
     params: Params,
     tol: f64,
     t_end: f64,
-    path: Option<SolverPath>,
+    path: Option<Integrator>,
     runs: usize,
-) -> (f64, SolverPath, Vec<f64>, u64) {
-    let mut out = (SolverPath::Radau, vec![], 0);
+) -> (f64, Integrator, Vec<f64>, u64) {
+    let mut out = (Integrator::Radau, vec![], 0);
     let n = (t_end / 1e-3).round() as usize;
     let start = cpu();
     let mut done = 0;
@@ -52,7 +52,7 @@ fn run(
             sim.step_to(k as f64 * 1e-3).unwrap();
             f.push(sim.outputs().f_fx);
         }
-        out = (sim.path(), f, sim.stats().steps);
+        out = (sim.integrator(), f, sim.stats().steps);
     }
     ((cpu() - start) / done as f64, out.0, out.1, out.2)
 }
@@ -78,7 +78,7 @@ fn main() {
             5e-4
         };
         let periods = t_end / period;
-        let (_, _, reference, _) = run(&scene, p, 1e-12, t_end, Some(SolverPath::Radau), 0);
+        let (_, _, reference, _) = run(&scene, p, 1e-12, t_end, Some(Integrator::Radau), 0);
         for tol in [1e-6, 1e-8] {
             let (t, path, f, steps) = run(&scene, p, tol, t_end, None, 1);
             let err = f

@@ -15,7 +15,7 @@ mod scenes;
 
 use std::time::Instant;
 
-use vibrofric::model::{Config, Drive, Inputs, Law, Motion, Path as SolverPath, Setup, StepStats};
+use vibrofric::model::{Config, Drive, Inputs, Integrator, Law, Motion, Setup, StepStats};
 use vibrofric::table::Params;
 
 const RUNS: usize = 9;
@@ -24,7 +24,7 @@ const T_END: f64 = 0.1;
 const NOMINAL_PERIOD: f64 = 5e-4;
 
 /// Median wall time of a run to `T_END` with communication step 1e-3 s, and its work counters.
-fn time_run(config: Config, params: Params, inputs: Inputs) -> (f64, StepStats, SolverPath) {
+fn time_run(config: Config, params: Params, inputs: Inputs) -> (f64, StepStats, Integrator) {
     let (t, stats, path, _) = timed(config, params, inputs, 1e-6, T_END, RUNS);
     (t, stats, path)
 }
@@ -38,10 +38,10 @@ fn timed(
     tol: f64,
     t_end: f64,
     runs: usize,
-) -> (f64, StepStats, SolverPath, Vec<f64>) {
+) -> (f64, StepStats, Integrator, Vec<f64>) {
     let mut times = Vec::with_capacity(runs);
     let mut stats = StepStats::default();
-    let mut path = SolverPath::Radau;
+    let mut path = Integrator::Radau;
     let mut f_fx = vec![];
     let n = (t_end / 1e-3).round() as usize;
     for _ in 0..runs {
@@ -58,7 +58,7 @@ fn timed(
         }
         times.push(start.elapsed().as_secs_f64());
         stats = sim.stats();
-        path = sim.path();
+        path = sim.integrator();
     }
     times.sort_by(|a, b| a.partial_cmp(b).unwrap());
     (times[runs / 2], stats, path, f_fx)

@@ -8,7 +8,7 @@ mod support;
 
 use support::scenes::{scene, standard_scenes};
 use vibrofric::description::scene::Scene;
-use vibrofric::model::{build, InputId, Outputs, Path, Setup, Simulator};
+use vibrofric::model::{build, InputId, Integrator, Outputs, Setup, Simulator};
 
 fn scenes() -> Vec<Scene> {
     standard_scenes().into_iter().map(|(_, s)| s).collect()
@@ -16,7 +16,7 @@ fn scenes() -> Vec<Scene> {
 
 /// Runs `scene` on `path` for 0.05 s (100 periods at 2 kHz) in communication steps of 1 ms,
 /// ramping the drive input over the second half through its derivative when `ramp`.
-fn run(scene: &Scene, path: Path, tol: f64, ramp: bool) -> (Vec<Outputs>, Path) {
+fn run(scene: &Scene, path: Integrator, tol: f64, ramp: bool) -> (Vec<Outputs>, Integrator) {
     let mut sim = Setup::new(scene.config, scene.start)
         .inputs(scene.inputs)
         .tolerance(tol)
@@ -38,7 +38,7 @@ fn run(scene: &Scene, path: Path, tol: f64, ramp: bool) -> (Vec<Outputs>, Path) 
         sim.step_to(k as f64 * 1e-3).unwrap();
         out.push(sim.outputs());
     }
-    (out, sim.path())
+    (out, sim.integrator())
 }
 
 #[test]
@@ -53,7 +53,7 @@ fn stiff_fast_paths_agree_with_radau() {
         .into_iter()
         .filter(|s| {
             let sim = build(s.config, s.start, 0.0, 1e-6).unwrap();
-            sim.path() != Path::Radau
+            sim.integrator() != Integrator::Radau
         })
         .map(|mut s| {
             s.start.k_t = 1e11;
@@ -70,16 +70,17 @@ fn compare(scenes: Vec<Scene>) {
         let s_ss = f_c / scene.start.k_t;
         for tol in [1e-6, 1e-9] {
             for ramp in [false, true] {
-                let (fast, path) = run(&scene, Path::ClosedForm, tol, ramp);
+                let (fast, path) = run(&scene, Integrator::ClosedForm, tol, ramp);
                 // The explicit path is about 100× more accurate than Radau at equal tolerance
                 // (with a ramped force, Radau at 1e-9 is 8e-8·F_C from the truth): it is held
                 // to Radau at 1e-12 instead.
-                let reference_tol = if matches!(path, Path::Explicit | Path::ExplicitPlanar) {
-                    1e-12
-                } else {
-                    tol
-                };
-                let (radau, _) = run(&scene, Path::Radau, reference_tol, ramp);
+                let reference_tol =
+                    if matches!(path, Integrator::Explicit | Integrator::ExplicitPlanar) {
+                        1e-12
+                    } else {
+                        tol
+                    };
+                let (radau, _) = run(&scene, Integrator::Radau, reference_tol, ramp);
                 let name = &scene.model_identifier;
                 for (k, (a, b)) in fast.iter().zip(&radau).enumerate() {
                     let what = format!("{name} ({path:?}) tol {tol} ramp {ramp} at {} ms", k + 1);
@@ -113,13 +114,13 @@ fn each_standard_scene_takes_the_path_its_structure_allows() {
     for scene in scenes() {
         let sim = build(scene.config, scene.start, 0.0, 1e-6).unwrap();
         let expected = match scene.model_identifier.as_str() {
-            "PaperLongitudinal" => Path::ClosedForm,
-            "PaperTransverseGuided" => Path::Exponential,
-            "VibratingContact" | "RigLongitudinal" => Path::Explicit,
-            "PaperTransverse" | "RigTransverse" => Path::ExplicitPlanar,
-            _ => Path::Radau,
+            "PaperLongitudinal" => Integrator::ClosedForm,
+            "PaperTransverseGuided" => Integrator::Exponential,
+            "VibratingContact" | "RigLongitudinal" => Integrator::Explicit,
+            "PaperTransverse" | "RigTransverse" => Integrator::ExplicitPlanar,
+            _ => Integrator::Radau,
         };
-        assert_eq!(sim.path(), expected, "{}", scene.model_identifier);
+        assert_eq!(sim.integrator(), expected, "{}", scene.model_identifier);
     }
 }
 
@@ -131,7 +132,9 @@ fn each_standard_scene_takes_the_path_its_structure_allows() {
 fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
     let explicit: Vec<Scene> = scenes()
         .into_iter()
-        .filter(|s| build(s.config, s.start, 0.0, 1e-6).unwrap().path() == Path::Explicit)
+        .filter(|s| {
+            build(s.config, s.start, 0.0, 1e-6).unwrap().integrator() == Integrator::Explicit
+        })
         .collect();
     assert_eq!(explicit.len(), 2);
     for mut scene in explicit {
@@ -142,9 +145,9 @@ fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
             // Velocities on the scale of the vibration's or of the contact's oscillation.
             let v_a = std::f64::consts::TAU * scene.start.f * scene.start.u0;
             let v_nom = v_a.max(s_ss * (k_t / scene.start.m).sqrt());
-            let (fast, path) = run(&scene, Path::ClosedForm, 1e-10, false);
-            assert_eq!(path, Path::Explicit);
-            let (radau, _) = run(&scene, Path::Radau, 1e-12, false);
+            let (fast, path) = run(&scene, Integrator::ClosedForm, 1e-10, false);
+            assert_eq!(path, Integrator::Explicit);
+            let (radau, _) = run(&scene, Integrator::Radau, 1e-12, false);
             let name = &scene.model_identifier;
             for (k, (a, b)) in fast.iter().zip(&radau).enumerate() {
                 let what = format!("{name} k_t {k_t:e} at {} ms", k + 1);
@@ -173,7 +176,9 @@ fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
 fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
     let planar: Vec<Scene> = scenes()
         .into_iter()
-        .filter(|s| build(s.config, s.start, 0.0, 1e-6).unwrap().path() == Path::ExplicitPlanar)
+        .filter(|s| {
+            build(s.config, s.start, 0.0, 1e-6).unwrap().integrator() == Integrator::ExplicitPlanar
+        })
         .collect();
     assert_eq!(planar.len(), 2);
     for mut scene in planar {
@@ -184,9 +189,9 @@ fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
             let v_a = std::f64::consts::TAU * scene.start.f * scene.start.u0;
             let v_nom = v_a.max(s_ss * (k_t / scene.start.m).sqrt());
             let x_nom = s_ss.max(scene.start.u0);
-            let (fast, path) = run(&scene, Path::ClosedForm, 1e-10, false);
-            assert_eq!(path, Path::ExplicitPlanar);
-            let (radau, _) = run(&scene, Path::Radau, 1e-12, false);
+            let (fast, path) = run(&scene, Integrator::ClosedForm, 1e-10, false);
+            assert_eq!(path, Integrator::ExplicitPlanar);
+            let (radau, _) = run(&scene, Integrator::Radau, 1e-12, false);
             let name = &scene.model_identifier;
             for (k, (a, b)) in fast.iter().zip(&radau).enumerate() {
                 let what = format!("{name} k_t {k_t:e} at {} ms", k + 1);

@@ -165,7 +165,7 @@ fn lugre_stick_slip_through_a_soft_spring_at_every_communication_step() {
 /// the hysteresis damps it), so the force balance holds to the oscillation's amplitude.
 #[test]
 fn dahl_body_on_the_explicit_path_held_released_held_at_every_communication_step() {
-    use vibrofric::model::{build_on, Path as SolverPath};
+    use vibrofric::model::{build_on, Integrator};
     let config = Config {
         law: Law::Dahl,
         motion: Motion::Longitudinal,
@@ -183,8 +183,8 @@ fn dahl_body_on_the_explicit_path_held_released_held_at_every_communication_step
     };
     let inputs = |t: f64| vec![(InputId::FD, f_d(t))];
     assert_eq!(
-        build(config, p, 0.0, TOL).unwrap().path(),
-        SolverPath::Explicit
+        build(config, p, 0.0, TOL).unwrap().integrator(),
+        Integrator::Explicit
     );
     let runs: Vec<_> = STEPS
         .iter()
@@ -236,7 +236,7 @@ fn dahl_body_on_the_explicit_path_held_released_held_at_every_communication_step
         }
     }
     // The same run on Radau at a tight tolerance.
-    let mut radau = build_on(config, p, 0.0, 1e-10, SolverPath::Radau).unwrap();
+    let mut radau = build_on(config, p, 0.0, 1e-10, Integrator::Radau).unwrap();
     let mut reference = vec![];
     for k in 0..6 {
         radau.set_input(InputId::FD, f_d(k as f64 * 0.5)).unwrap();

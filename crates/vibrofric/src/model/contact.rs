@@ -15,7 +15,7 @@ use super::drive::DriveKind;
 use super::dynamics::{lift_off, Dynamics, Eval, Relaxation1, System};
 use super::exact;
 use super::ode::{ContactOde, Ode};
-use super::simulator::{Path, SimError, Simulator, StepStats};
+use super::simulator::{Integrator, SimError, Simulator, StepStats};
 use super::state::ContactState;
 use super::time::{boundary_snap, canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{affine_sums, StepMean, Window};
@@ -67,11 +67,11 @@ pub fn boxed<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     params: Params,
     t_start: f64,
     tolerance: f64,
-    path: Path,
+    path: Integrator,
 ) -> Box<dyn Simulator> {
     assert_eq!(N, V::DIM + D::N_BODY, "state dimension of {config:?}");
     let mut c = Contact::<V, L, D, N>::new(config, params, t_start, tolerance);
-    c.radau_only = path == Path::Radau;
+    c.radau_only = path == Integrator::Radau;
     Box::new(c)
 }
 
@@ -763,17 +763,17 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         }
     }
 
-    fn path(&self) -> Path {
+    fn integrator(&self) -> Integrator {
         if self.exact_path().is_some() {
-            Path::ClosedForm
+            Integrator::ClosedForm
         } else if self.exp_path() {
-            Path::Exponential
+            Integrator::Exponential
         } else if self.explicit_path() {
-            Path::Explicit
+            Integrator::Explicit
         } else if self.planar_explicit_path() {
-            Path::ExplicitPlanar
+            Integrator::ExplicitPlanar
         } else {
-            Path::Radau
+            Integrator::Radau
         }
     }
 

@@ -43,7 +43,7 @@ pub use exchange::DOMAIN_FACTOR;
 pub use ode::Ode;
 pub use setup::Setup;
 pub use simulator::{
-    EventUpdate, Exchange, Path, SimError, Simulator, StateVector, StepStats, TOLERANCE_RANGE,
+    EventUpdate, Exchange, Integrator, SimError, Simulator, StateVector, StepStats, TOLERANCE_RANGE,
 };
 pub use state::{ContactState, StepMeanState, WindowState};
 pub use time::{canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
@@ -62,17 +62,17 @@ pub fn build(
     t_start: f64,
     tolerance: f64,
 ) -> Result<Box<dyn Simulator>, SimError> {
-    build_on(config, params, t_start, tolerance, Path::ClosedForm)
+    build_on(config, params, t_start, tolerance, Integrator::ClosedForm)
 }
 
-/// [`build`] with the path chosen: [`Path::Radau`] forces the general integrator (for tests and
-/// benchmarks of the fast paths); any other takes the fastest that applies.
+/// [`build`] with the integrator chosen: [`Integrator::Radau`] forces the general integrator
+/// (for tests and benchmarks of the fast paths); any other takes the fastest that applies.
 pub fn build_on(
     config: Config,
     params: Params,
     t_start: f64,
     tolerance: f64,
-    path: Path,
+    path: Integrator,
 ) -> Result<Box<dyn Simulator>, SimError> {
     params.validate()?;
     for id in ParamId::ALL {

@@ -1,6 +1,6 @@
 //! The one way from a scene's values to a running simulator: [`Setup`].
 
-use super::simulator::{Path, SimError, Simulator};
+use super::simulator::{Integrator, SimError, Simulator};
 use crate::table::Params;
 use crate::table::{Config, InputId, Inputs};
 
@@ -29,8 +29,9 @@ pub struct Setup {
     pub derivatives: [Option<f64>; InputId::ALL.len()],
     pub t_start: f64,
     pub tolerance: f64,
-    /// [`Path::Radau`] forces the general integrator; any other takes the fastest that applies.
-    pub path: Path,
+    /// [`Integrator::Radau`] forces the general integrator (the reference of the tests and
+    /// benchmarks); any other value takes the fastest integrator the contact allows.
+    pub integrator: Integrator,
 }
 
 impl Setup {
@@ -43,7 +44,7 @@ impl Setup {
             derivatives: [None; InputId::ALL.len()],
             t_start: 0.0,
             tolerance: 1e-6,
-            path: Path::ClosedForm,
+            integrator: Integrator::ClosedForm,
         }
     }
 
@@ -73,16 +74,22 @@ impl Setup {
         Setup { tolerance, ..self }
     }
 
-    /// The integrator path (see [`super::build_on`]).
-    pub fn on(self, path: Path) -> Setup {
-        Setup { path, ..self }
+    /// The integrator (see [`super::build_on`]).
+    pub fn on(self, integrator: Integrator) -> Setup {
+        Setup { integrator, ..self }
     }
 
     /// The simulator: [`super::build_on`], then each input the configuration has, then the
     /// derivatives given. The first refusal is returned.
     pub fn build(&self) -> Result<Box<dyn Simulator>, SimError> {
         let c = self.config;
-        let mut sim = super::build_on(c, self.params, self.t_start, self.tolerance, self.path)?;
+        let mut sim = super::build_on(
+            c,
+            self.params,
+            self.t_start,
+            self.tolerance,
+            self.integrator,
+        )?;
         if let Some(inputs) = &self.inputs {
             for id in InputId::ALL {
                 if id.present(&c) {

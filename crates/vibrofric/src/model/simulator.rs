@@ -141,7 +141,7 @@ pub trait Simulator: Send + Exchange {
     fn output_derivative(&self, id: OutputId) -> Option<f64>;
     fn stats(&self) -> StepStats;
     /// The integrator this simulator steps with.
-    fn path(&self) -> Path;
+    fn integrator(&self) -> Integrator;
     /// The complete state; [`Simulator::restore`] on a simulator built with the same
     /// configuration continues bit for bit.
     fn snapshot(&self) -> ContactState;
@@ -157,7 +157,7 @@ pub trait Simulator: Send + Exchange {
 
 /// The integrator a simulator steps with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Path {
+pub enum Integrator {
     /// The deformation in closed form between sign changes of `v_r`, only the mean force by
     /// quadrature (longitudinal Dahl, `kappa = 1`, velocity drive).
     ClosedForm,
