@@ -6,7 +6,7 @@
 //!
 //! `cargo run --release -p vibrofric-import --example golden_calls -- dist > before.txt`
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 
 use vibrofric_import::fmi3::Fmu3;
@@ -31,19 +31,9 @@ fn ok(s: Status, what: &str) -> Result<(), String> {
     }
 }
 
-fn fmu_files(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| format!("{}: {e}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "fmu"))
-        .collect();
-    v.sort();
-    Ok(v)
-}
-
 fn run(dir: &Path) -> Result<usize, String> {
     let mut n = 0;
-    for path in fmu_files(dir)? {
+    for path in vibrofric_import::fmus_in(dir)? {
         let fmu = Fmu::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let id = fmu.description.model_identifier.clone();
         let vrs: Vec<u32> = fmu.description.variables.iter().map(|v| v.vr).collect();

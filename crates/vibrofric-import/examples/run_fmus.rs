@@ -9,21 +9,11 @@
 //! 1 ms) with every output read at every point, twice: the second time with 0.37 ms steps and, where the FMU has them, the inputs `F_d`
 //! and `v_sx` set to other values than their start values.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::ExitCode;
 
 use vibrofric_import::fmi3::Fmu3;
 use vibrofric_import::{Fmu, Importer};
-
-fn fmus(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
-        .map_err(|e| format!("{}: {e}", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "fmu"))
-        .collect();
-    v.sort();
-    Ok(v)
-}
 
 fn print_rows(label: &str, rows: &[Vec<f64>]) {
     for row in rows {
@@ -37,7 +27,7 @@ fn print_rows(label: &str, rows: &[Vec<f64>]) {
 
 fn run(dir: &Path) -> Result<usize, String> {
     let mut n = 0;
-    for path in fmus(dir)? {
+    for path in vibrofric_import::fmus_in(dir)? {
         let fmu = Fmu::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
         let d = &fmu.description;
         // Every output; FMI 3.0 repeats the names and value references of FMI 2.0.

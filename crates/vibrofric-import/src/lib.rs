@@ -367,6 +367,18 @@ impl fmt::Debug for Fmu {
     }
 }
 
+/// The `*.fmu` files directly in `dir`, sorted by name (the FMI 3.0 editions the exporter
+/// writes are in `dir/fmi3/`, under the same names).
+pub fn fmus_in(dir: &Path) -> Result<Vec<std::path::PathBuf>, String> {
+    let mut v: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "fmu"))
+        .collect();
+    v.sort();
+    Ok(v)
+}
+
 /// The `file:` URI of a local folder as RFC 8089 and fmpy (`pathlib.Path.as_uri()`) write it:
 /// `file:///home/u/x` on Unix, `file:///C:/Users/u/x` on Windows (`\\server\share\x` as
 /// `file://server/share/x`), every byte but the unreserved ones, `/` and a drive's `:`
