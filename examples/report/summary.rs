@@ -57,6 +57,96 @@ fn fmt_time(s: f64) -> String {
     }
 }
 
+/// One comparison: vibrofric's cheapest run at the level, and the fastest peer's.
+struct Cmp<'a> {
+    case: &'a str,
+    measure: &'static str,
+    level: f64,
+    mine: Option<&'a Row>,
+    peer: Option<&'a Row>,
+}
+
+/// (measure order, level) -> (ratio, case, fastest peer)
+type Ratios<'a> = BTreeMap<(usize, String), Vec<(f64, &'a str, &'a str)>>;
+
+/// What several sections share: the peers and every equal-error comparison.
+struct Comparisons<'a> {
+    /// The solvers other than vibrofric and the FMU, sorted.
+    peers: Vec<&'a str>,
+    /// Per case, per measure, per level, in that order.
+    cmps: Vec<Cmp<'a>>,
+}
+
+impl<'a> Comparisons<'a> {
+    fn new(cases: &'a [Case], rows: &'a [Row]) -> Self {
+        let solvers: Vec<&str> = {
+            let mut s: Vec<&str> = rows.iter().map(|r| r.solver.as_str()).collect();
+            s.sort();
+            s.dedup();
+            s
+        };
+        let peers: Vec<&str> = solvers
+            .into_iter()
+            .filter(|s| !s.starts_with("vibrofric") && !s.starts_with("fmu"))
+            .collect();
+        let mut cmps = vec![];
+        for case in cases {
+            for (name, err, levels) in measures(case) {
+                for &level in levels {
+                    cmps.push(Cmp {
+                        case: &case.name,
+                        measure: name,
+                        level,
+                        mine: time_to(rows, &case.name, "vibrofric", level, err),
+                        peer: peers
+                            .iter()
+                            .filter_map(|p| time_to(rows, &case.name, p, level, err))
+                            .min_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s)),
+                    });
+                }
+            }
+        }
+        Comparisons { peers, cmps }
+    }
+
+    /// The ratios where both reached the level, grouped by measure and level.
+    fn ratios(&self) -> Ratios<'a> {
+        let mut ratios: Ratios = BTreeMap::new();
+        for c in &self.cmps {
+            if let (Some(a), Some(b)) = (c.mine, c.peer) {
+                let order = usize::from(c.measure != "F_mean");
+                ratios
+                    .entry((order, format!("{} ≤ {:.0e}", c.measure, c.level)))
+                    .or_default()
+                    .push((b.cpu_s / a.cpu_s, c.case, b.solver.as_str()));
+            }
+        }
+        ratios
+    }
+}
+
+/// A run's time and tolerance, or a dash.
+fn run(r: Option<&Row>) -> String {
+    r.map_or("—".into(), |r| {
+        format!("{} (tol {:.0e})", fmt_time(r.cpu_s), r.tol)
+    })
+}
+
+/// The fastest peer's time over vibrofric's, or why there is none.
+fn ratio(c: &Cmp) -> String {
+    match (c.mine, c.peer) {
+        (Some(a), Some(b)) => format!("**{:.1}×**", b.cpu_s / a.cpu_s),
+        (Some(_), None) => "no peer reached it".into(),
+        (None, Some(_)) => "vibrofric did not reach it".into(),
+        (None, None) => "—".into(),
+    }
+}
+
+/// How many of the ratios are above 1.
+fn faster(v: &[f64]) -> usize {
+    v.iter().filter(|r| **r > 1.0).count()
+}
+
 pub fn summary(
     cases: &[Case],
     truths: &[Truth],
@@ -67,6 +157,24 @@ pub fn summary(
     o: &Options,
 ) -> String {
     let mut m = String::new();
+    header(&mut m, p, o);
+    let cmp = Comparisons::new(cases, rows);
+    conclusion(&mut m, cases, &cmp);
+    measures_table(&mut m, cases);
+    task(&mut m, &p.python);
+    per_case(&mut m, cases, &cmp, o);
+    all_levels(&mut m, &cmp);
+    peers_section(&mut m, o);
+    fmu_section(&mut m, cases, rows);
+    truths_section(&mut m, cases, truths, o);
+    tightest_peers(&mut m, cases, rows, &cmp);
+    targets_section(&mut m, targets, stiffness_ratios);
+    plots(&mut m, cases);
+    m
+}
+
+/// The title, and how and where the measurements were made.
+fn header(m: &mut String, p: &Provenance, o: &Options) {
     let command = format!(
         "cargo run --release --example report{}",
         if o.quick { " -- --quick" } else { "" }
@@ -93,70 +201,29 @@ pub fn summary(
         o.budget_s
     )
     .unwrap();
-    let python = &p.python;
+}
 
-    // Equal-error ratios.
-    let solvers: Vec<String> = {
-        let mut s: Vec<String> = rows.iter().map(|r| r.solver.clone()).collect();
-        s.sort();
-        s.dedup();
-        s
-    };
-    let peers: Vec<&String> = solvers
+/// "; in N more no peer reached the level …; vibrofric did not reach the level in M".
+fn unreached_note(cmps: &[Cmp]) -> String {
+    let unreached = cmps
         .iter()
-        .filter(|s| !s.starts_with("vibrofric") && !s.starts_with("fmu"))
-        .collect();
-    /// One comparison: vibrofric's cheapest run at the level, and the fastest peer's.
-    struct Cmp<'a> {
-        case: &'a str,
-        measure: &'static str,
-        level: f64,
-        mine: Option<&'a Row>,
-        peer: Option<&'a Row>,
+        .filter(|c| c.mine.is_some() && c.peer.is_none())
+        .count();
+    let missed = cmps.iter().filter(|c| c.mine.is_none()).count();
+    let mut t = String::new();
+    if unreached > 0 {
+        t.push_str(&format!(
+            "; in {unreached} more no peer reached the level within the budget"
+        ));
     }
-    let mut cmps = vec![];
-    for case in cases {
-        for (name, err, levels) in measures(case) {
-            for &level in levels {
-                cmps.push(Cmp {
-                    case: &case.name,
-                    measure: name,
-                    level,
-                    mine: time_to(rows, &case.name, "vibrofric", level, err),
-                    peer: peers
-                        .iter()
-                        .filter_map(|p| time_to(rows, &case.name, p, level, err))
-                        .min_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s)),
-                });
-            }
-        }
+    if missed > 0 {
+        t.push_str(&format!("; vibrofric did not reach the level in {missed}"));
     }
-    let run = |r: Option<&Row>| {
-        r.map_or("—".into(), |r| {
-            format!("{} (tol {:.0e})", fmt_time(r.cpu_s), r.tol)
-        })
-    };
-    let ratio = |c: &Cmp| match (c.mine, c.peer) {
-        (Some(a), Some(b)) => format!("**{:.1}×**", b.cpu_s / a.cpu_s),
-        (Some(_), None) => "no peer reached it".into(),
-        (None, Some(_)) => "vibrofric did not reach it".into(),
-        (None, None) => "—".into(),
-    };
-    // Conclusion first: the ratios at equal error, per error level.
-    // (measure order, level) -> (ratio, case, fastest peer)
-    type Ratios<'a> = BTreeMap<(usize, String), Vec<(f64, &'a str, &'a str)>>;
-    let mut ratios: Ratios = BTreeMap::new();
-    for c in &cmps {
-        if let (Some(a), Some(b)) = (c.mine, c.peer) {
-            let order = usize::from(c.measure != "F_mean");
-            ratios
-                .entry((order, format!("{} ≤ {:.0e}", c.measure, c.level)))
-                .or_default()
-                .push((b.cpu_s / a.cpu_s, c.case, b.solver.as_str()));
-        }
-    }
-    let all: Vec<f64> = ratios.values().flatten().map(|(r, _, _)| *r).collect();
-    let faster = |v: &[f64]| v.iter().filter(|r| **r > 1.0).count();
+    t
+}
+
+/// The cases where vibrofric is slower at some level, and the note on the peers faster there.
+fn slower_note(ratios: &Ratios) -> (String, String) {
     let mut slower: Vec<&str> = ratios
         .values()
         .flatten()
@@ -174,6 +241,31 @@ pub fn summary(
     winners.sort();
     winners.dedup();
     let stiff_slower = slower.iter().any(|c| c.ends_with("k1e11"));
+    if slower.is_empty() {
+        return ("no case".to_string(), String::new());
+    }
+    let cases = slower
+        .iter()
+        .map(|c| format!("`{c}`"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let note = format!(
+        " (there the faster peer is {}){}",
+        winners.join(", "),
+        if stiff_slower {
+            ""
+        } else {
+            "; on every stiff (k_t = 1e11) variant vibrofric is the faster at every level"
+        }
+    );
+    (cases, note)
+}
+
+/// Conclusion first: the ratios at equal error, over all and per error level.
+fn conclusion(m: &mut String, cases: &[Case], cmp: &Comparisons) {
+    let ratios = cmp.ratios();
+    let all: Vec<f64> = ratios.values().flatten().map(|(r, _, _)| *r).collect();
+    let (slower, winners) = slower_note(&ratios);
     writeln!(
         m,
         "## Conclusion\n\nAt equal error, vibrofric is faster than the fastest of the other \
@@ -187,45 +279,9 @@ pub fn summary(
         cases.len(),
         median(&all),
         all.iter().cloned().fold(f64::INFINITY, f64::min),
-        {
-            let unreached = cmps
-                .iter()
-                .filter(|c| c.mine.is_some() && c.peer.is_none())
-                .count();
-            let missed = cmps.iter().filter(|c| c.mine.is_none()).count();
-            let mut t = String::new();
-            if unreached > 0 {
-                t.push_str(&format!(
-                    "; in {unreached} more no peer reached the level within the budget"
-                ));
-            }
-            if missed > 0 {
-                t.push_str(&format!("; vibrofric did not reach the level in {missed}"));
-            }
-            t
-        },
-        if slower.is_empty() {
-            "no case".to_string()
-        } else {
-            slower
-                .iter()
-                .map(|c| format!("`{c}`"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        },
-        if slower.is_empty() {
-            String::new()
-        } else {
-            format!(
-                " (there the faster peer is {}){}",
-                winners.join(", "),
-                if stiff_slower {
-                    ""
-                } else {
-                    "; on every stiff (k_t = 1e11) variant vibrofric is the faster at every level"
-                }
-            )
-        }
+        unreached_note(&cmp.cmps),
+        slower,
+        winners
     )
     .unwrap();
     for ((_, level), rs) in &ratios {
@@ -241,6 +297,10 @@ pub fn summary(
         )
         .unwrap();
     }
+}
+
+/// Which measures and levels each case is compared on.
+fn measures_table(m: &mut String, cases: &[Case]) {
     writeln!(
         m,
         "\nMeasures: under velocity drive `F_mean` (≤ 1e-4, 1e-6, 1e-8) and `F_Fx` (≤ 1e-3, 1e-5, \
@@ -277,7 +337,10 @@ pub fn summary(
         .unwrap();
     }
     writeln!(m).unwrap();
+}
 
+/// The task every solver runs, and why the Python peers are missing if they are.
+fn task(m: &mut String, python: &Result<(), String>) {
     writeln!(
         m,
         "Task, the same for every solver: from rest to `t_end`, `F_Fx` every {SAMPLE_DT:e} s \
@@ -290,7 +353,10 @@ pub fn summary(
     if let Err(e) = python {
         writeln!(m, "Python peers (scipy, FMU via fmpy): {e}.\n").unwrap();
     }
+}
 
+/// Per case: run time at equal error at one level of each measure.
+fn per_case(m: &mut String, cases: &[Case], cmp: &Comparisons, o: &Options) {
     writeln!(
         m,
         "## Per case: run time at equal error\n\nFor an error level, each solver's cheapest run \
@@ -304,7 +370,8 @@ pub fn summary(
     .unwrap();
     for case in cases {
         let pick = |measure: &str, level: f64| {
-            cmps.iter()
+            cmp.cmps
+                .iter()
                 .find(|c| c.case == case.name && c.measure == measure && c.level == level)
         };
         let a = if force_driven(case) {
@@ -328,13 +395,17 @@ pub fn summary(
         };
         writeln!(m, "| {} | {} | {} |", case.name, cell(a), cell(b)).unwrap();
     }
+}
+
+/// Every comparison, at every level.
+fn all_levels(m: &mut String, cmp: &Comparisons) {
     writeln!(
         m,
         "\n## All levels\n\n| case | measure | level | vibrofric | fastest peer | peer time | ratio |\n\
          |---|---|---|---|---|---|---|"
     )
     .unwrap();
-    for c in &cmps {
+    for c in &cmp.cmps {
         writeln!(
             m,
             "| {} | {} | {:.0e} | {} | {} | {} | {} |",
@@ -351,7 +422,10 @@ pub fn summary(
         )
         .unwrap();
     }
+}
 
+/// The peers: which, how they handle reversals, where they fail, and their tolerances.
+fn peers_section(m: &mut String, o: &Options) {
     writeln!(
         m,
         "\n## Peers\n\n- Rust, in the same process, on the same equations \
@@ -393,7 +467,10 @@ pub fn summary(
         o.budget_s
     )
     .unwrap();
+}
 
+/// The FMU through fmpy, against vibrofric in-process.
+fn fmu_section(m: &mut String, cases: &[Case], rows: &[Row]) {
     // The FMU through fmpy.
     let fmu: Vec<&Row> = rows
         .iter()
@@ -430,7 +507,10 @@ pub fn summary(
             }
         }
     }
+}
 
+/// The truths, their own errors, and the independent Python cross-check.
+fn truths_section(m: &mut String, cases: &[Case], truths: &[Truth], o: &Options) {
     // Truths.
     writeln!(
         m,
@@ -468,6 +548,10 @@ pub fn summary(
         )
         .unwrap();
     }
+}
+
+/// The tightest run of each Rust peer, as a second cross-check of the truths.
+fn tightest_peers(m: &mut String, cases: &[Case], rows: &[Row], cmp: &Comparisons) {
     // The tightest run of each Rust peer, as a second cross-check.
     writeln!(
         m,
@@ -475,10 +559,10 @@ pub fn summary(
     )
     .unwrap();
     for c in cases {
-        for p in &peers {
+        for p in &cmp.peers {
             if let Some(r) = rows
                 .iter()
-                .filter(|r| r.case == c.name && &&r.solver == p && r.ok())
+                .filter(|r| r.case == c.name && r.solver == *p && r.ok())
                 .min_by(|a, b| a.tol.total_cmp(&b.tol))
             {
                 if r.solver.starts_with("scipy") {
@@ -493,7 +577,10 @@ pub fn summary(
             }
         }
     }
+}
 
+/// The speed targets on paper-longitudinal, and the cost of stiffness.
+fn targets_section(m: &mut String, targets: &Targets, stiffness_ratios: Option<&[f64]>) {
     // Targets.
     writeln!(
         m,
@@ -544,6 +631,10 @@ pub fn summary(
         )
         .unwrap();
     }
+}
+
+/// The plots of every case.
+fn plots(m: &mut String, cases: &[Case]) {
     // The plots, as PNG for viewers without SVG support.
     writeln!(m, "\n## Plots\n").unwrap();
     for c in cases {
@@ -554,7 +645,6 @@ pub fn summary(
         )
         .unwrap();
     }
-    m
 }
 
 /// The median of a list (NaN when empty).
