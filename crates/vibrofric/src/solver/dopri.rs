@@ -81,6 +81,19 @@ impl<const M: usize> DoPriStep<M> {
         k1: &[f64; M],
         h: f64,
     ) -> Self {
+        Self::take_staged(&mut |_, tt, yi| f(tt, yi), t, y, k1, h)
+    }
+
+    /// As [`DoPriStep::take`], with `f` also told the stage (1 to 6) it evaluates, so that a
+    /// caller can look up what it computed for the stage times `t + C[i]·h` beforehand.
+    #[inline(always)]
+    pub fn take_staged(
+        f: &mut impl FnMut(usize, f64, &[f64; M]) -> [f64; M],
+        t: f64,
+        y: &[f64; M],
+        k1: &[f64; M],
+        h: f64,
+    ) -> Self {
         let mut k = [[0.0; M]; 7];
         let mut stages = [*y; 7];
         k[0] = *k1;
@@ -95,7 +108,7 @@ impl<const M: usize> DoPriStep<M> {
                 }
             }
             stages[i] = yi;
-            k[i] = f(t + C[i] * h, &yi);
+            k[i] = f(i, t + C[i] * h, &yi);
         }
         let err = std::array::from_fn(|m| h * (0..7).map(|i| E[i] * k[i][m]).sum::<f64>());
         DoPriStep { stages, k, err }
