@@ -88,7 +88,7 @@ fn main() {
                 .fold(0.0, f64::max)
                 / p.f_c();
             println!(
-                "| {} | {path:?} | {tol:.0e} | {:.2} | {:.1} | {err:.1e} |",
+                "| {} | {path:?} | {tol:.0e} | {:.2} | {:.1} | {err:.3e} |",
                 scene.model_identifier,
                 t / periods * 1e6,
                 steps as f64 / periods
