@@ -424,7 +424,7 @@ impl<L: FrictionLaw> Relax<L> {
     fn decay<V: Vector>(&self, vr: V) -> f64 {
         match self.dahl {
             Some((_, inv_len)) => vr.norm() * inv_len,
-            None => self.law.linear(vr).map_or(0.0, |lin| lin.decay),
+            None => self.law.decay(vr),
         }
     }
 
