@@ -316,7 +316,7 @@ fn expm1(x: f64) -> f64 {
 /// A point just past the root of `g` in `(a, b)`, from `g(a) = ga ≥ 0 > g(b) = gb`, by the
 /// Illinois method: the first `b` found with `−within ≤ g(b) < 0`, or the bracket's end at the
 /// resolution of `theta`.
-fn root(
+pub(super) fn root(
     g: &impl Fn(f64) -> f64,
     (mut a, mut ga): (f64, f64),
     (mut b, mut gb): (f64, f64),

@@ -170,9 +170,10 @@ pub enum Integrator {
     /// `v_r`, the body by Dormand–Prince 5(4) with error control, each step cut at a located
     /// sign change. Planar contacts take it while they move on x only.
     Explicit,
-    /// A moving body on a planar Dahl contact with `kappa = 1` off the x axis: the whole state
-    /// by Dormand–Prince 5(4) with error control, while the contact is not stiff on the scale
-    /// of the averaging window (else Radau).
+    /// A moving body on a planar Dahl contact with `kappa = 1` off the x axis, or on a planar
+    /// LuGre contact: the whole state by Dormand–Prince 5(4) with error control, the deformation
+    /// exponentially in the relaxation arc length where it relaxes fast, while the contact is
+    /// not stiff on the scale of the averaging window (else Radau).
     ExplicitPlanar,
     /// Radau IIA of order 5 on the whole state: every other contact, and the reference the
     /// fast paths are tested against.

@@ -172,6 +172,11 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn linear<V: Vector>(&self, _vr: V) -> Option<Linear<V>> {
         None
     }
+    /// The decay rate of [`FrictionLaw::linear`] at `v_r` alone (0 where the law has no
+    /// linear structure), without the force terms.
+    fn decay<V: Vector>(&self, vr: V) -> f64 {
+        self.linear(vr).map_or(0.0, |lin| lin.decay)
+    }
     /// The viscous coefficient `h_v` of a force term `h_v·v_r` (LuGre), 0 for laws without one:
     /// the only term of the force that does not scale with the normal load.
     fn viscous(&self) -> f64 {
@@ -516,6 +521,14 @@ impl FrictionLaw for LuGre {
         }
     }
 
+    fn decay<V: Vector>(&self, vr: V) -> f64 {
+        if self.f_c == 0.0 && self.f_s == 0.0 {
+            return 0.0;
+        }
+        let vr2 = vr.dot(vr);
+        vr2.sqrt() / self.g(vr2)
+    }
+
     fn linear<V: Vector>(&self, vr: V) -> Option<Linear<V>> {
         if self.f_c == 0.0 && self.f_s == 0.0 {
             return None;
@@ -635,6 +648,7 @@ mod tests {
                     Planar { x: vx, y: vy },
                 );
                 let lin = law.linear(vr).unwrap();
+                assert_eq!(law.decay(vr), lin.decay, "{k}");
                 let ds = law.rate(s, vr);
                 let rate = (lin.target - s) * lin.decay;
                 let f = law.force(s, vr, ds);
