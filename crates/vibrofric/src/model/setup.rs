@@ -11,7 +11,7 @@ use crate::table::{Config, InputId, Inputs};
 ///
 /// ```
 /// use vibrofric::model::{Config, Inputs, Setup};
-/// use vibrofric::physics::Params;
+/// use vibrofric::table::Params;
 /// let sim = Setup::new(Config::default(), Params::default())
 ///     .inputs(Inputs::default())
 ///     .tolerance(1e-8)
