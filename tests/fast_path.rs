@@ -127,27 +127,56 @@ fn each_standard_scene_takes_the_path_its_structure_allows() {
     }
 }
 
+/// The standard scenes that take `integrator` at their start values.
+fn scenes_on(integrator: Integrator) -> Vec<Scene> {
+    scenes()
+        .into_iter()
+        .filter(|s| build(s.config, s.start, 0.0, 1e-6).unwrap().integrator() == integrator)
+        .collect()
+}
+
+/// The scales a scene's comparisons are relative to: the friction force `F_C`, the
+/// deformation `s_ss`, velocities on the scale of the vibration's or of the contact's
+/// oscillation, positions on the scale of `s_ss` or the vibration amplitude.
+struct Nominal {
+    f_c: f64,
+    s_ss: f64,
+    v_nom: f64,
+    x_nom: f64,
+}
+
+impl Nominal {
+    fn of(scene: &Scene) -> Nominal {
+        let p = &scene.start;
+        let f_c = p.f_c();
+        let s_ss = f_c / p.k_t;
+        let v_a = std::f64::consts::TAU * p.f * p.u0;
+        Nominal {
+            f_c,
+            s_ss,
+            v_nom: v_a.max(s_ss * (p.k_t / p.m).sqrt()),
+            x_nom: s_ss.max(p.u0),
+        }
+    }
+}
+
 /// The explicit path (a moving body on a Dahl contact) at tolerance 1e-10 against Radau at
 /// 1e-12, at the default contact stiffness and at 1e11 (a reversal's relaxation then spans a
 /// thousandth of a period), with held inputs: the friction force, its window and step means,
 /// the deformation and the body's position and velocity.
 #[test]
 fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
-    let explicit: Vec<Scene> = scenes()
-        .into_iter()
-        .filter(|s| {
-            build(s.config, s.start, 0.0, 1e-6).unwrap().integrator() == Integrator::Explicit
-        })
-        .collect();
+    let explicit = scenes_on(Integrator::Explicit);
     assert_eq!(explicit.len(), 2);
     for mut scene in explicit {
         for k_t in [1e8, 1e11] {
             scene.start.k_t = k_t;
-            let f_c = scene.start.f_c();
-            let s_ss = f_c / k_t;
-            // Velocities on the scale of the vibration's or of the contact's oscillation.
-            let v_a = std::f64::consts::TAU * scene.start.f * scene.start.u0;
-            let v_nom = v_a.max(s_ss * (k_t / scene.start.m).sqrt());
+            let Nominal {
+                f_c,
+                s_ss,
+                v_nom,
+                x_nom,
+            } = Nominal::of(&scene);
             let (fast, path) = run(&scene, Integrator::ClosedForm, 1e-10, false);
             assert_eq!(path, Integrator::Explicit);
             let (radau, _) = run(&scene, Integrator::Radau, 1e-12, false);
@@ -159,7 +188,7 @@ fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
                     ("F_mean", a.f_mean, b.f_mean, 1e-9 * f_c),
                     ("F_Fx_step", a.f_fx_step, b.f_fx_step, 1e-9 * f_c),
                     ("s_x", a.s_x, b.s_x, 1e-9 * s_ss),
-                    ("x", a.x, b.x, 1e-9 * (s_ss.max(scene.start.u0) + b.x.abs())),
+                    ("x", a.x, b.x, 1e-9 * (x_nom + b.x.abs())),
                     ("v_x", a.v_x, b.v_x, 1e-9 * (v_nom + b.v_x.abs())),
                 ] {
                     assert!((x - y).abs() <= bound, "{what}: {q} {x} vs {y}");
@@ -177,12 +206,7 @@ fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
 /// velocity in x and y.
 #[test]
 fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
-    let planar: Vec<Scene> = scenes()
-        .into_iter()
-        .filter(|s| {
-            build(s.config, s.start, 0.0, 1e-6).unwrap().integrator() == Integrator::ExplicitPlanar
-        })
-        .collect();
+    let planar = scenes_on(Integrator::ExplicitPlanar);
     assert_eq!(planar.len(), 3);
     for mut scene in planar {
         // LuGre's contact damping makes a stuck body's motion fast on the scale of the window
@@ -197,11 +221,12 @@ fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
         }
         for k_t in [1e8, stiff] {
             scene.start.k_t = k_t;
-            let f_c = scene.start.f_c();
-            let s_ss = f_c / k_t;
-            let v_a = std::f64::consts::TAU * scene.start.f * scene.start.u0;
-            let v_nom = v_a.max(s_ss * (k_t / scene.start.m).sqrt());
-            let x_nom = s_ss.max(scene.start.u0);
+            let Nominal {
+                f_c,
+                s_ss,
+                v_nom,
+                x_nom,
+            } = Nominal::of(&scene);
             let (fast, path) = run(&scene, Integrator::ClosedForm, 1e-10, false);
             assert_eq!(path, Integrator::ExplicitPlanar);
             let (radau, _) = run(&scene, Integrator::Radau, 1e-12, false);
