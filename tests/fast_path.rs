@@ -61,7 +61,7 @@ fn stiff_fast_paths_agree_with_radau() {
             s
         })
         .collect();
-    assert_eq!(stiff.len(), 7);
+    assert_eq!(stiff.len(), 8);
     compare(stiff);
 }
 
@@ -117,7 +117,9 @@ fn each_standard_scene_takes_the_path_its_structure_allows() {
         let expected = match scene.model_identifier.as_str() {
             "PaperLongitudinal" => Integrator::ClosedForm,
             "PaperTransverseGuided" => Integrator::Exponential,
-            "VibratingContact" | "RigLongitudinal" => Integrator::Explicit,
+            "VibratingContact" | "RigLongitudinal" | "VibratingContactDupont" => {
+                Integrator::Explicit
+            }
             "PaperTransverse" | "RigTransverse" | "VibratingContactLuGre" => {
                 Integrator::ExplicitPlanar
             }
@@ -160,14 +162,14 @@ impl Nominal {
     }
 }
 
-/// The explicit path (a moving body on a Dahl contact) at tolerance 1e-10 against Radau at
+/// The explicit path (a moving body on a Dahl or Dupont contact) at tolerance 1e-10 against Radau at
 /// 1e-12, at the default contact stiffness and at 1e11 (a reversal's relaxation then spans a
 /// thousandth of a period), with held inputs: the friction force, its window and step means,
 /// the deformation and the body's position and velocity.
 #[test]
 fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
     let explicit = scenes_on(Integrator::Explicit);
-    assert_eq!(explicit.len(), 2);
+    assert_eq!(explicit.len(), 3);
     for mut scene in explicit {
         for k_t in [1e8, 1e11] {
             scene.start.k_t = k_t;
