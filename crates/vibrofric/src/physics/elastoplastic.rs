@@ -118,6 +118,18 @@ impl ElastoPlastic {
         1.0 - self.w * z * self.inverse.at(z)
     }
 
+    /// `dp/du` at `p`: 1 where elastic (`p ≤ r`), `1 − alpha·p` beyond; it falls along the
+    /// plastic part, so its value at a step's start bounds it over the step.
+    pub fn slope(&self, p: f64) -> f64 {
+        if p <= self.r {
+            return 1.0;
+        }
+        let q = ((1.0 - p) / self.w).clamp(0.0, 1.0);
+        let sin = libm::sin(0.5 * PI * q);
+        // alpha = cos²(πq/2) = 1 − sin²(πq/2): 1 − alpha·p = (1 − p) + p·sin².
+        (1.0 - p).max(0.0) + p * sin * sin
+    }
+
     /// The breakaway ratio.
     pub fn r_ba(&self) -> f64 {
         self.r
@@ -208,6 +220,23 @@ mod tests {
         }
         assert_eq!(shape.plastic(0.0), 1.0);
         assert_eq!(shape.start(1.0).z0, 0.0);
+    }
+
+    /// The slope against central differences of the branch.
+    #[test]
+    fn slope_is_the_derivative_of_the_branch() {
+        let shape = ElastoPlastic::new(0.5).unwrap();
+        for p0 in [-0.5, 0.2, 0.6, 0.75, 0.9, 0.999] {
+            let h = 1e-6;
+            let d = (at(&shape, p0, 2.0 * h) - at(&shape, p0, 0.0)) / (2.0 * h);
+            let mid = at(&shape, p0, h);
+            assert!(
+                (shape.slope(mid) - d).abs() < 1e-8,
+                "p0 {p0}: {} vs {d}",
+                shape.slope(mid)
+            );
+        }
+        assert_eq!(shape.slope(1.0), 0.0);
     }
 
     /// Ratios beyond the series' reach are refused, not approximated.
