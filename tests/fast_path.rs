@@ -304,3 +304,59 @@ fn a_step_over_a_million_periods_equals_stepping_them() {
         assert_eq!(a.x, scene.inputs.v_d * t_end);
     }
 }
+
+/// A body held by a force drive within Dupont's breakaway, without vibration: it rings on the
+/// contact without loss and its deformation stays elastic, which the explicit path steps in
+/// closed form (one step per call). Against Radau at 1e-12 over 20 ms at `k_t` = 1e8, and at
+/// 1e12 the same number of steps as at 1e8 over 1 s (Radau needs two million there).
+#[test]
+fn a_stuck_dupont_body_rings_in_closed_form() {
+    let dupont = scene("contact-dupont.toml");
+    for k_t in [1e8, 1e12] {
+        let mut scene = dupont.clone();
+        scene.start.k_t = k_t;
+        scene.start.u0 = 0.0;
+        // 2 N from rest: s rings between 0 and 4 N/k_t, below s_ba = 5 N/k_t.
+        scene.inputs.f_d = 2.0;
+        let build = |path: Integrator, tol: f64| {
+            Setup::new(scene.config, scene.start)
+                .inputs(scene.inputs)
+                .tolerance(tol)
+                .on(path)
+                .build()
+                .unwrap()
+        };
+        let mut fast = build(Integrator::ClosedForm, 1e-6);
+        assert_eq!(fast.integrator(), Integrator::Explicit);
+        if k_t == 1e8 {
+            let mut radau = build(Integrator::Radau, 1e-12);
+            let f_c = scene.start.f_c();
+            for k in 1..=20 {
+                let t = k as f64 * 1e-3;
+                fast.step_to(t).unwrap();
+                radau.step_to(t).unwrap();
+                let (a, b) = (fast.outputs(), radau.outputs());
+                for (q, x, y) in [
+                    ("F_Fx", a.f_fx, b.f_fx),
+                    ("F_mean", a.f_mean, b.f_mean),
+                    ("F_Fx_step", a.f_fx_step, b.f_fx_step),
+                ] {
+                    assert!((x - y).abs() <= 1e-9 * f_c, "{t} s: {q} {x} vs {y}");
+                }
+                assert!((a.v_x - b.v_x).abs() <= 1e-9 * 2e-4, "{t} s: v_x");
+                assert!(
+                    a.s_x.abs() < 4.0 / k_t * (1.0 + 1e-9),
+                    "{t} s: s_x {}",
+                    a.s_x
+                );
+            }
+        } else {
+            for k in 1..=1000 {
+                fast.step_to(k as f64 * 1e-3).unwrap();
+            }
+            // One closed-form step per averaging window (0.5 ms) at both stiffnesses.
+            assert_eq!(fast.stats().steps, 2000);
+            assert_eq!(fast.stats().rejected, 0);
+        }
+    }
+}

@@ -22,6 +22,7 @@
 use super::contact::Contact;
 use super::drive::DriveKind;
 use super::dynamics::Dynamics;
+use super::elastic::{elastic_step, Forcing};
 use super::simulator::SimError;
 use crate::physics::{trig, ElastoPlastic, FrictionLaw, InputTrack, Relaxation, Vector};
 use crate::solver::dopri::{factor, DoPriStep, C};
@@ -151,6 +152,34 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let mut rejected = false;
         let limit = self.radau.step_limit;
         let stats = &mut self.radau.stats;
+        // Dupont under a force drive, within the breakaway: the whole call in closed form where
+        // the deformation provably stays elastic (a stuck body ringing on the contact).
+        if let (Some(shape), Drive::Force) = (plastic, self.config.drive) {
+            let s_ba = shape.r_ba() * len;
+            let fd = &dynamics.tracks[InputId::FD.index()];
+            let forcing = Forcing {
+                d0: dynamics.drive_inputs(t).f_d,
+                d1: fd.slope,
+                amp: support.amp,
+                omega: support.omega,
+                phase: support.phase,
+                c0: support.track.map_or(0.0, |k| k.at(t)),
+                c1: support.track.map_or(0.0, |k| k.slope),
+            };
+            let m = self.params.m;
+            if s.abs() < s_ba && t < t_target {
+                if let Some(end) = elastic_step(s, x, v, t_target - t, k_t, m, s_ba, &forcing) {
+                    (s, x, v) = (end.s, end.x, end.v);
+                    integral += end.impulse;
+                    support.turn(end.turn);
+                    t = t_target;
+                    stats.steps += 1;
+                    if end.v_r != 0.0 {
+                        sigma = end.v_r.signum();
+                    }
+                }
+            }
+        }
         while t < t_target {
             if stats.steps + stats.rejected >= limit {
                 return Err(SimError::Solver(SolverError::WorkLimit {
