@@ -6,8 +6,8 @@
 //! Runs are repeated until 0.3 s of CPU time add up (the thread's time, so that other work on a
 //! shared machine counts little).
 //!
-//! cargo run --release --example guided_bench [H [T [K_T]]]   (H = 1e-4 s, T = 0.1 s,
-//! K_T = the scene's contact stiffness)
+//! cargo run --release --example guided_bench [H [T [K_T [TOL]]]]   (H = 1e-4 s, T = 0.1 s,
+//! K_T = the scene's contact stiffness, TOL: only this tolerance)
 
 #[path = "../tests/support/scenes.rs"]
 #[allow(dead_code)]
@@ -85,7 +85,11 @@ fn main() {
          max F_Fx error / F_C |"
     );
     println!("|---|---|---|---|---|---|---|");
-    for tol in [1e-3, 1e-4, 1e-6, 1e-8, 1e-10] {
+    let tols = match std::env::args().nth(4) {
+        Some(t) => vec![t.parse().expect("a tolerance")],
+        None => vec![1e-3, 1e-4, 1e-6, 1e-8, 1e-10],
+    };
+    for tol in tols {
         let (f, mean, (steps, rejected), path, secs) = run(&scene, params, tol, h, t_end, None);
         let e_ffx = f
             .iter()
