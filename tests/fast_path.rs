@@ -255,7 +255,7 @@ fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
 
 /// One step over many periods of 2 kHz vibration with the inputs held costs O(1) and equals
 /// stepping the same time period by period: 1e6 periods on the closed form, 2e4 on the
-/// exponential path (its stepping costs 25 µs a period).
+/// exponential path (its stepping costs about 17 µs a period at tolerance 1e-8).
 #[test]
 fn a_step_over_a_million_periods_equals_stepping_them() {
     for (file, periods) in [
