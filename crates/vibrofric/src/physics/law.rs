@@ -63,8 +63,19 @@ fn axpy(a: Mat2, k: f64, b: Mat2) -> Mat2 {
 /// Unit vector along `v`, zero for a zero vector. A subnormal `v` (a stuck contact's velocity
 /// decays into them) is scaled up first, so that `1/|v|` cannot overflow.
 fn unit<V: Vector>(v: V) -> V {
-    let v = if v.norm() < 1e-290 { v * 1e300 } else { v };
-    let n = v.norm();
+    unit_of(v, v.norm())
+}
+
+/// [`unit`] of `v` given its norm `n = v.norm()` (one square root where the caller needs both),
+/// the same bits.
+#[inline(always)]
+fn unit_of<V: Vector>(v: V, n: f64) -> V {
+    let (v, n) = if n < 1e-290 {
+        let v = v * 1e300;
+        (v, v.norm())
+    } else {
+        (v, n)
+    };
     if n > 0.0 {
         v * (1.0 / n)
     } else {
@@ -292,11 +303,14 @@ impl FrictionLaw for Dahl {
     }
 
     fn linear<V: Vector>(&self, vr: V) -> Option<Linear<V>> {
-        (self.kappa == 1.0 && self.inv_s_ss > 0.0).then(|| Linear {
-            decay: vr.norm() * self.inv_s_ss,
-            target: unit(vr) * self.s_ss,
-            force_s: self.k_t,
-            force_0: V::default(),
+        (self.kappa == 1.0 && self.inv_s_ss > 0.0).then(|| {
+            let n = vr.norm();
+            Linear {
+                decay: n * self.inv_s_ss,
+                target: unit_of(vr, n) * self.s_ss,
+                force_s: self.k_t,
+                force_0: V::default(),
+            }
         })
     }
 }
