@@ -45,6 +45,10 @@ const BREAKAWAY_WITHIN: f64 = 1e-9;
 /// tolerances 2.3e-7 and 5e-9; at 0.1, 1.1e-6 and 5.4e-9; at 0.45, 3e-6 and 1e-8).
 const DUPONT_TOL_FRACTION: f64 = 0.03;
 
+/// How far past the reversal predicted from `v_r` and its rate at a step's start the step may
+/// end.
+const PAST_REVERSAL: f64 = 1.25;
+
 /// The first step on a new branch as a fraction of the time its relaxation over one `s_ss`
 /// takes from rest (a whole one fails the error test by 20–100 on VibratingContact).
 const RELAX_FIRST: f64 = 0.4;
@@ -242,6 +246,15 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 };
             }
             let mut hh = h.min(h_max);
+            if event_target.is_none() {
+                // Heading for a reversal: a step far across it is wasted (against the branch
+                // the deformation swings by 2·s_ss within a few s_ss of relative displacement),
+                // so end it a little past where v_r would vanish at its present rate of change.
+                let (vr, ar) = (k1[0], k1[2] - support.accel_now());
+                if sigma * vr > 0.0 && sigma * ar < 0.0 {
+                    hh = hh.min(PAST_REVERSAL * (-vr / ar));
+                }
+            }
             let mut last = false;
             if let Some(te) = event_target {
                 hh = te - t;
@@ -365,9 +378,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             }
             rejected = false;
             if event_target.is_some() && !reversal {
-                // Just past the breakaway: on along the same branch.
+                // Just past the breakaway: on along the same branch, with no longer a step than
+                // was proposed before it (the plastic part bends at once).
                 event_target = None;
-                h_new = h_new.max(h);
+                h_new = h_new.min(h);
             } else if event_target.is_some() {
                 // The reversal: the other branch from here; the step that ended on it was
                 // clipped and says little about the step size.
@@ -557,6 +571,12 @@ impl StageSupport {
             }
         }
         (w, whole)
+    }
+
+    /// The support acceleration along x at the current step's start.
+    #[inline(always)]
+    fn accel_now(&self) -> f64 {
+        -self.amp * self.omega * self.phase.1 + self.track.map_or(0.0, |k| k.slope)
     }
 
     /// Moves the phase on over an accepted step.
