@@ -177,6 +177,15 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn decay<V: Vector>(&self, vr: V) -> f64 {
         self.linear(vr).map_or(0.0, |lin| lin.decay)
     }
+    /// `ds/dt` and the friction force at `(s, v_r)` given `decay = self.decay(v_r)`: the values
+    /// of [`FrictionLaw::rate`] and [`FrictionLaw::force`], to the last bit, without evaluating
+    /// again what the decay already took (LuGre's `g(v_r)`).
+    #[inline(always)]
+    fn rate_force_at<V: Vector>(&self, s: V, vr: V, decay: f64) -> (V, V) {
+        let _ = decay;
+        let ds = self.rate(s, vr);
+        (ds, self.force(s, vr, ds))
+    }
     /// The viscous coefficient `h_v` of a force term `h_v·v_r` (LuGre), 0 for laws without one:
     /// the only term of the force that does not scale with the normal load.
     fn viscous(&self) -> f64 {
@@ -529,6 +538,17 @@ impl FrictionLaw for LuGre {
         vr2.sqrt() / self.g(vr2)
     }
 
+    #[inline(always)]
+    fn rate_force_at<V: Vector>(&self, s: V, vr: V, decay: f64) -> (V, V) {
+        if self.f_c == 0.0 && self.f_s == 0.0 {
+            return (V::default(), vr * self.h_v);
+        }
+        // As `rate` and `force`: `decay` is `|v_r|/g(v_r)`.
+        let ds = vr - s * decay;
+        let h_t = self.h_t0 * libm::exp(-vr.dot(vr) * self.inv_v_e2);
+        (ds, s * self.k_t + ds * h_t + vr * self.h_v)
+    }
+
     fn linear<V: Vector>(&self, vr: V) -> Option<Linear<V>> {
         if self.f_c == 0.0 && self.f_s == 0.0 {
             return None;
@@ -661,6 +681,14 @@ mod tests {
                 }
                 for (a, b) in [(f.x, f_lin.x), (f.y, f_lin.y)] {
                     assert!((a - b).abs() <= 1e-12 * (f.norm() + 1.0), "{k}: {a} {b}");
+                }
+                // The rate and force from the decay are the law's own, to the last bit.
+                let (ds2, f2) = law.rate_force_at(s, vr, law.decay(vr));
+                for (a, b) in [(ds, ds2), (f, f2)] {
+                    assert_eq!(
+                        (a.x.to_bits(), a.y.to_bits()),
+                        (b.x.to_bits(), b.y.to_bits())
+                    );
                 }
             }
         }
