@@ -150,7 +150,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let mut fsal: Option<[f64; M]> = None;
         let mut rejected = false;
         // The end of a step retaken to end just past a sign change of `v_rx` on the x axis.
-        let mut cut: Option<f64> = None;
+        // With whether it was located on an accepted step's extension.
+        let mut cut: Option<(f64, bool)> = None;
         let limit = self.radau.step_limit;
         let stats = &mut self.radau.stats;
         while t < t_target {
@@ -186,7 +187,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             }
             let mut hh = h.min(h_max);
             let mut last = false;
-            if let Some(te) = cut {
+            if let Some((te, _)) = cut {
                 hh = te - t;
             } else if t + 1.0001 * hh >= t_target {
                 hh = t_target - t;
@@ -288,49 +289,60 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             } else {
                 f64::INFINITY
             };
-            if err > 1.0 {
-                stats.rejected += 1;
-                h = hh * factor(err).min(0.9);
-                rejected = true;
-                cut = None;
-                fsal = Some(k1);
-                continue;
-            }
             // On the x axis (no lateral relative velocity) `|v_r|`, and with it the rates, has a
             // kink wherever `v_rx` changes sign, on which the error estimate of a step across it
             // is not to be trusted: the step is retaken to end just past the sign change
-            // (located on the continuous extension), so that the kink falls between steps.
-            if cut.is_none() {
+            // (located on the continuous extension), so that the kink falls between steps. A
+            // step that ends on a sign change located on a rejected step's extension is checked
+            // again.
+            let crossing = if cut.is_none_or(|(_, trusted)| !trusted) {
                 let vr0 = Self::relative_velocity(&sys, t, &u);
                 let sigma = vr0.x().signum();
                 let vr_i = |i: usize| Self::relative_velocity(&sys, t + C[i] * hh, &step.stages[i]);
                 let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
                 let g = |i: usize| sigma * vr_i(i).x();
-                if vr0.x() != 0.0 && on_axis {
-                    if let Some(i) = (1..7).find(|&i| g(i) < 0.0) {
+                match (1..7).find(|&i| g(i) < 0.0) {
+                    Some(i) if vr0.x() != 0.0 && on_axis => {
                         let end = step.end();
+                        let dense = step.dense_all(hh);
                         let gd = |theta: f64| {
                             let mut z = end;
                             for (j, zj) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
-                                *zj = step.dense(j, hh, theta);
+                                *zj = dense.at(j, theta);
                             }
                             sigma * Self::relative_velocity(&sys, t + theta * hh, &z).x()
                         };
+                        let (ga, gb) = (g(i - 1).max(0.0), g(i));
+                        // Just past the sign change: within 1e-9 of the bracket's swing.
                         let theta = super::explicit::root(
                             &gd,
-                            (C[i - 1], g(i - 1).max(0.0)),
-                            (C[i], g(i)),
-                            0.0,
+                            (C[i - 1], ga),
+                            (C[i], gb),
+                            1e-9 * (ga - gb),
                         );
                         let te = t + theta * hh;
-                        if theta < 1.0 && te > t + 16.0 * f64::EPSILON * t.abs().max(hh) {
-                            cut = Some(te);
-                            h = hh;
-                            fsal = Some(k1);
-                            continue;
-                        }
+                        (theta < 1.0 && te > t + 16.0 * f64::EPSILON * t.abs().max(hh))
+                            .then_some(te)
                     }
+                    _ => None,
                 }
+            } else {
+                None
+            };
+            if err > 1.0 {
+                stats.rejected += 1;
+                h = hh * factor(err).min(0.9);
+                rejected = true;
+                // A sign change within the next step: the next step ends just past it.
+                cut = crossing.filter(|&te| te - t <= h).map(|te| (te, false));
+                fsal = Some(k1);
+                continue;
+            }
+            if let Some(te) = crossing {
+                cut = Some((te, true));
+                h = hh;
+                fsal = Some(k1);
+                continue;
             }
             stats.steps += 1;
             u1[N + 2] = 0.0;
