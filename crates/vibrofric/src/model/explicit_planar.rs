@@ -141,7 +141,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             out
         };
         let kin = |tt: f64, u: &[f64; M]| Kin::at(&sys, &relax, tt, &u[..N]);
-        let mut rhs = |tt: f64, u: &[f64; M]| rhs_with(u, V::read(&u[..V::DIM]), &kin(tt, u));
+        let rhs = |tt: f64, u: &[f64; M]| rhs_with(u, V::read(&u[..V::DIM]), &kin(tt, u));
         let mut t = self.radau.t;
         let mut u = [0.0; M];
         u[..N].copy_from_slice(self.radau.y.as_slice());
@@ -197,6 +197,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
             }
             let mut err: f64 = 0.0;
+            // `v_r` at the stages of the step taken (of its last pass).
+            let mut vr_at = [V::default(); 7];
             let exponential = k1[N + 2] * hh >= EXPONENTIAL_FROM;
             let (step, mut u1) = if exponential {
                 // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
@@ -212,6 +214,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                         hist.lam[i] = y[N + 2];
                         let k = kin(tt, y);
                         hist.q[i] = k.target();
+                        vr_at[i] = k.vr;
                         let s_i = match i {
                             1 => hist.relax([0, 1]),
                             2 => hist.relax([0, 1, 2]),
@@ -243,7 +246,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                         let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
                             let s_i = fit.at(stage2[i]);
                             i += 1;
-                            rhs_with(y, V::read(&s_i[..V::DIM]), &kin(tt, y))
+                            let k = kin(tt, y);
+                            vr_at[i - 1] = k.vr;
+                            rhs_with(y, V::read(&s_i[..V::DIM]), &k)
                         };
                         stats.rhs_evals += 6;
                         DoPriStep::take(&mut stage, t, &u, &k1, hh)
@@ -271,7 +276,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 }
                 (step, u1)
             } else {
-                let step = DoPriStep::take(&mut rhs, t, &u, &k1, hh);
+                let mut stage = |i: usize, tt: f64, y: &[f64; M]| -> [f64; M] {
+                    let k = kin(tt, y);
+                    vr_at[i] = k.vr;
+                    rhs_with(y, V::read(&y[..V::DIM]), &k)
+                };
+                let step = DoPriStep::take_staged(&mut stage, t, &u, &k1, hh);
                 let u1 = step.end();
                 for c in 0..V::DIM {
                     let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
@@ -298,7 +308,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let crossing = if cut.is_none_or(|(_, trusted)| !trusted) {
                 let vr0 = Self::relative_velocity(&sys, t, &u);
                 let sigma = vr0.x().signum();
-                let vr_i = |i: usize| Self::relative_velocity(&sys, t + C[i] * hh, &step.stages[i]);
+                let vr_i = |i: usize| if i == 0 { vr0 } else { vr_at[i] };
                 let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
                 let g = |i: usize| sigma * vr_i(i).x();
                 match (1..7).find(|&i| g(i) < 0.0) {
