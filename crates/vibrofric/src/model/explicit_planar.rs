@@ -34,7 +34,7 @@ use super::drive::DriveInputs;
 use super::drive::DriveKind;
 use super::dynamics::{Eval, System};
 use super::simulator::SimError;
-use crate::physics::{FrictionLaw, Vector};
+use crate::physics::{FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, Dense, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError};
 
@@ -123,7 +123,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         // exponential stage's), given the relative velocity `vr` there and its decay rate
         // `|v_r|/s_ss` (LuGre `|v_r|/g(v_r)`); the body's equations read only `u`'s body part.
         let rhs_with = |u: &[f64; M], s: V, kin: &Kin<V>| -> [f64; M] {
-            let (ds, f) = dynamics.law.rate_force_at(s, kin.vr, kin.decay);
+            let (ds, f) = dynamics.law.rate_force_at(s, kin.vr, &kin.terms);
             let e = Eval {
                 s,
                 v: kin.v,
@@ -137,7 +137,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             out[..N].copy_from_slice(r.as_slice());
             out[N] = f.x();
             out[N + 1] = f.y();
-            out[N + 2] = kin.decay;
+            out[N + 2] = kin.terms.decay;
             out
         };
         let kin = |tt: f64, u: &[f64; M]| Kin::at(&sys, &relax, tt, &u[..N]);
@@ -435,7 +435,8 @@ struct Kin<V> {
     drive: DriveInputs,
     v: V,
     vr: V,
-    decay: f64,
+    /// The relaxation rate `|v_r|/s_ss` (LuGre `|v_r|/g(v_r)`) and what the force needs.
+    terms: VelocityTerms,
 }
 
 impl<V: Vector> Kin<V> {
@@ -453,7 +454,7 @@ impl<V: Vector> Kin<V> {
             drive,
             v,
             vr,
-            decay: relax.decay(vr),
+            terms: relax.terms(vr),
         }
     }
 
@@ -461,8 +462,8 @@ impl<V: Vector> Kin<V> {
     /// `g(v_r)·v_r/|v_r|`), 0 at `v_r` = 0.
     #[inline(always)]
     fn target(&self) -> [f64; 2] {
-        if self.decay > 0.0 {
-            let q = self.vr * (1.0 / self.decay);
+        if self.terms.decay > 0.0 {
+            let q = self.vr * (1.0 / self.terms.decay);
             [q.x(), q.y()]
         } else {
             [0.0; 2]
@@ -486,12 +487,16 @@ impl<L: FrictionLaw> Relax<L> {
         }
     }
 
-    /// The relaxation rate `dλ/dt`: `|v_r|/s_ss`, LuGre `|v_r|/g(v_r)`.
+    /// The relaxation rate `dλ/dt` (`|v_r|/s_ss`, LuGre `|v_r|/g(v_r)`) and the law's other
+    /// terms at `v_r`.
     #[inline(always)]
-    fn decay<V: Vector>(&self, vr: V) -> f64 {
+    fn terms<V: Vector>(&self, vr: V) -> VelocityTerms {
         match self.dahl {
-            Some(inv_len) => vr.norm() * inv_len,
-            None => self.law.decay(vr),
+            Some(inv_len) => VelocityTerms {
+                decay: vr.norm() * inv_len,
+                damping: 0.0,
+            },
+            None => self.law.velocity_terms(vr),
         }
     }
 }

@@ -8,7 +8,8 @@ pub mod trig;
 mod vector;
 
 pub use law::{
-    Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation, NO_FRICTION_LENGTH,
+    Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation, VelocityTerms,
+    NO_FRICTION_LENGTH,
 };
 pub use support::{Harmonic, InputTrack};
 pub use vector::{Planar, Vector};
