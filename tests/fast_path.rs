@@ -61,7 +61,7 @@ fn stiff_fast_paths_agree_with_radau() {
             s
         })
         .collect();
-    assert_eq!(stiff.len(), 7);
+    assert_eq!(stiff.len(), 8);
     compare(stiff);
 }
 
@@ -117,7 +117,9 @@ fn each_standard_scene_takes_the_path_its_structure_allows() {
         let expected = match scene.model_identifier.as_str() {
             "PaperLongitudinal" => Integrator::ClosedForm,
             "PaperTransverseGuided" => Integrator::Exponential,
-            "VibratingContact" | "RigLongitudinal" => Integrator::Explicit,
+            "VibratingContact" | "RigLongitudinal" | "VibratingContactDupont" => {
+                Integrator::Explicit
+            }
             "PaperTransverse" | "RigTransverse" | "VibratingContactLuGre" => {
                 Integrator::ExplicitPlanar
             }
@@ -160,14 +162,18 @@ impl Nominal {
     }
 }
 
-/// The explicit path (a moving body on a Dahl contact) at tolerance 1e-10 against Radau at
+/// The explicit path (a moving body on a Dahl or Dupont contact) at tolerance 1e-10 against Radau at
 /// 1e-12, at the default contact stiffness and at 1e11 (a reversal's relaxation then spans a
 /// thousandth of a period), with held inputs: the friction force, its window and step means,
 /// the deformation and the body's position and velocity.
 #[test]
 fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
-    let explicit = scenes_on(Integrator::Explicit);
-    assert_eq!(explicit.len(), 2);
+    let mut explicit = scenes_on(Integrator::Explicit);
+    assert_eq!(explicit.len(), 3);
+    // The spring drive on a Dupont contact (no standard scene has it).
+    let mut rig = scene("rig-longitudinal.toml");
+    rig.config.law = Law::Dupont;
+    explicit.push(rig);
     for mut scene in explicit {
         for k_t in [1e8, 1e11] {
             scene.start.k_t = k_t;
@@ -300,5 +306,61 @@ fn a_step_over_a_million_periods_equals_stepping_them() {
             b.x
         );
         assert_eq!(a.x, scene.inputs.v_d * t_end);
+    }
+}
+
+/// A body held by a force drive within Dupont's breakaway, without vibration: it rings on the
+/// contact without loss and its deformation stays elastic, which the explicit path steps in
+/// closed form (one step per call). Against Radau at 1e-12 over 20 ms at `k_t` = 1e8, and at
+/// 1e12 the same number of steps as at 1e8 over 1 s (Radau needs two million there).
+#[test]
+fn a_stuck_dupont_body_rings_in_closed_form() {
+    let dupont = scene("contact-dupont.toml");
+    for k_t in [1e8, 1e12] {
+        let mut scene = dupont.clone();
+        scene.start.k_t = k_t;
+        scene.start.u0 = 0.0;
+        // 2 N from rest: s rings between 0 and 4 N/k_t, below s_ba = 5 N/k_t.
+        scene.inputs.f_d = 2.0;
+        let build = |path: Integrator, tol: f64| {
+            Setup::new(scene.config, scene.start)
+                .inputs(scene.inputs)
+                .tolerance(tol)
+                .on(path)
+                .build()
+                .unwrap()
+        };
+        let mut fast = build(Integrator::ClosedForm, 1e-6);
+        assert_eq!(fast.integrator(), Integrator::Explicit);
+        if k_t == 1e8 {
+            let mut radau = build(Integrator::Radau, 1e-12);
+            let f_c = scene.start.f_c();
+            for k in 1..=20 {
+                let t = k as f64 * 1e-3;
+                fast.step_to(t).unwrap();
+                radau.step_to(t).unwrap();
+                let (a, b) = (fast.outputs(), radau.outputs());
+                for (q, x, y) in [
+                    ("F_Fx", a.f_fx, b.f_fx),
+                    ("F_mean", a.f_mean, b.f_mean),
+                    ("F_Fx_step", a.f_fx_step, b.f_fx_step),
+                ] {
+                    assert!((x - y).abs() <= 1e-9 * f_c, "{t} s: {q} {x} vs {y}");
+                }
+                assert!((a.v_x - b.v_x).abs() <= 1e-9 * 2e-4, "{t} s: v_x");
+                assert!(
+                    a.s_x.abs() < 4.0 / k_t * (1.0 + 1e-9),
+                    "{t} s: s_x {}",
+                    a.s_x
+                );
+            }
+        } else {
+            for k in 1..=1000 {
+                fast.step_to(k as f64 * 1e-3).unwrap();
+            }
+            // One closed-form step per averaging window (0.5 ms) at both stiffnesses.
+            assert_eq!(fast.stats().steps, 2000);
+            assert_eq!(fast.stats().rejected, 0);
+        }
     }
 }

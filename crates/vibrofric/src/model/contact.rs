@@ -9,6 +9,8 @@
 // Jacobian assembly indexes rows and columns of several matrices in lockstep.
 #![allow(clippy::needless_range_loop)]
 
+use std::sync::{Arc, OnceLock};
+
 use nalgebra::SVector;
 
 use super::drive::DriveKind;
@@ -19,7 +21,9 @@ use super::simulator::{Integrator, SimError, Simulator, StepStats};
 use super::state::ContactState;
 use super::time::{boundary_snap, canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{affine_sums, StepMean, Window};
-use crate::physics::{FrictionLaw, Harmonic, InputTrack, Relaxation, Vector, NO_FRICTION_LENGTH};
+use crate::physics::{
+    ElastoPlastic, FrictionLaw, Harmonic, InputTrack, Relaxation, Vector, NO_FRICTION_LENGTH,
+};
 use crate::solver::expint::ExpIntegrator;
 use crate::solver::{
     OdeSystem, Quad, Radau5, SolverError, SolverStats, Step, Workspace, MAX_QUAD, MAX_SWITCH,
@@ -46,6 +50,9 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     /// The explicit path's branch: the sign of `v_r` since its last located change (0: not
     /// yet known).
     pub(super) direction: f64,
+    /// Dupont's deformation along a branch for this contact's breakaway ratio, fitted on first
+    /// use (`explicit.rs`; none where the law has no breakaway or the fit does not converge).
+    pub(super) elastoplastic: OnceLock<Option<Arc<ElastoPlastic>>>,
     /// The integrator's scratch matrices, kept across communication steps.
     pub(super) work: Workspace,
     pub(super) window: Window,
@@ -119,6 +126,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             radau_only: false,
             exp_h: 0.0,
             direction: 0.0,
+            elastoplastic: OnceLock::new(),
             work: Workspace::new(N),
             window: Window {
                 origin: t_start,

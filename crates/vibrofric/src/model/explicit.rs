@@ -1,8 +1,13 @@
-//! The explicit path of a moving body on a Dahl contact (`kappa = 1`), force or spring drive,
-//! motion along x: between sign changes of `v_r` the deformation is a closed-form function of
-//! the relative displacement `ξ` since the step's start,
-//! `s(ξ) = s0 + (σ·s_ss − s0)·(1 − exp(−σ·ξ/s_ss))`, `σ = sgn(v_r)`, so the contact's stiff
-//! relaxation (rate `|v_r|/s_ss`) leaves the equations. What is left, `dξ/dt = v − v_s(t)`,
+//! The explicit path of a moving body on a Dahl (`kappa = 1`) or Dupont contact, force or
+//! spring drive, motion along x: between sign changes of `v_r` the deformation is a function
+//! of the relative displacement `ξ` since the step's start alone, so the contact's stiff
+//! relaxation (rate `|v_r|/s_ss`) leaves the equations. Dahl's is the closed form
+//! `s(ξ) = s0 + (σ·s_ss − s0)·(1 − exp(−σ·ξ/s_ss))`, `σ = sgn(v_r)`; Dupont's is elastic,
+//! `s0 + ξ`, until `σ·s` reaches the breakaway `s_ba`, then the plastic shape of
+//! `physics::ElastoPlastic`. A step that passes the breakaway is retaken to end there (the
+//! deformation's third derivative jumps), and, since the elastic part keeps every step's error
+//! where Dahl's relaxation damps it, Dupont's error control is tighter
+//! ([`DUPONT_TOL_FRACTION`]). What is left, `dξ/dt = v − v_s(t)`,
 //! `dx/dt = v`, `m·dv/dt = F_d − k_t·s(ξ)`, is smooth and integrated by Dormand–Prince 5(4)
 //! with error control, each step cut where `v_r` changes sign (located on the continuous
 //! extension), and `∫F_Fx dt` integrated alongside with the fifth-order weights.
@@ -17,16 +22,28 @@
 use super::contact::Contact;
 use super::drive::DriveKind;
 use super::dynamics::Dynamics;
+use super::elastic::{elastic_step, Forcing};
 use super::simulator::SimError;
-use crate::physics::{trig, FrictionLaw, InputTrack, Vector};
+use crate::physics::{trig, ElastoPlastic, FrictionLaw, InputTrack, Relaxation, Vector};
 use crate::solver::dopri::{factor, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError};
 use crate::table::{Drive, InputId};
+use std::sync::Arc;
 
 /// The error control's tolerance as a fraction of the user's: the global error of `F_Fx` is
 /// then below the tolerance times `F_C` (measured on VibratingContact against Radau at 1e-12:
 /// 9.0e-7 at 1e-6 and 8.8e-9 at 1e-8; at a fraction of 0.5 it was 9.5e-7 and 1.003e-8).
 const TOL_FRACTION: f64 = 0.45;
+
+/// How far past Dupont's breakaway (in `s_ss`) a step retaken to end on it may end: the
+/// deformation there is taken as elastic, off by about the cube of this.
+const BREAKAWAY_WITHIN: f64 = 1e-9;
+
+/// The same for Dupont, whose elastic part (up to the breakaway) keeps the errors of each step
+/// where Dahl's relaxation damps them (VibratingContactDupont against Radau at 1e-12, 1 s in
+/// 1 ms steps: `F_Fx` within 2.0e-7 of `F_C` at 1e-6 and 1.9e-9 at 1e-8, Radau's own at those
+/// tolerances 2.3e-7 and 5e-9; at 0.1, 1.1e-6 and 5.4e-9; at 0.45, 3e-6 and 1e-8).
+const DUPONT_TOL_FRACTION: f64 = 0.03;
 
 /// The first step on a new branch as a fraction of the time its relaxation over one `s_ss`
 /// takes from rest (a whole one fails the error test by 20–100 on VibratingContact).
@@ -40,11 +57,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         if self.radau_only
             || self.dynamics.load.is_some()
             || !matches!(self.config.drive, Drive::Force | Drive::Spring)
-            || !self
-                .dynamics
-                .law
-                .relaxation()
-                .is_some_and(|r| r.exponent == 1.0)
+            || self.branch_shape().is_none()
         {
             return false;
         }
@@ -63,19 +76,38 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         y[1] == 0.0 && y[2 * V::DIM + 1] == 0.0 && !lateral_support
     }
 
+    /// The law's relaxation in the relative displacement along a branch, where the explicit
+    /// path can follow it: Dahl with `kappa = 1` (exponential), or Dupont with the shape of its
+    /// breakaway ratio (elastic, then plastic), fitted on first use.
+    fn branch_shape(&self) -> Option<(Relaxation, Option<Arc<ElastoPlastic>>)> {
+        let law = &self.dynamics.law;
+        if let Some(relax) = law.relaxation().filter(|r| r.exponent == 1.0) {
+            return Some((relax, None));
+        }
+        let (relax, r_ba) = law.breakaway()?;
+        let shape = self
+            .elastoplastic
+            .get_or_init(|| ElastoPlastic::new(r_ba).map(Arc::new));
+        shape.clone().map(|shape| (relax, Some(shape)))
+    }
+
     /// Advances the explicit path to `t_target`: `∫F_F dt` over the call.
     pub(super) fn advance_explicit(&mut self, t_target: f64, h_max: f64) -> Result<Quad, SimError> {
-        let relax = self
-            .dynamics
-            .law
-            .relaxation()
+        let (relax, plastic) = self
+            .branch_shape()
             .expect("explicit path without a relaxation");
+        let plastic = plastic.as_deref();
         let (len, k_t) = (relax.length, relax.stiffness);
         let inv_len = 1.0 / len;
         let (ix, iv) = (V::DIM, 2 * V::DIM);
         let inv_m = 1.0 / self.params.m;
         let tol = self.radau.tolerance();
-        let rtol = (TOL_FRACTION * tol).max(1e-14);
+        let fraction = if plastic.is_some() {
+            DUPONT_TOL_FRACTION
+        } else {
+            TOL_FRACTION
+        };
+        let rtol = (fraction * tol).max(1e-14);
         let band = 0.05 * tol * len * (k_t * inv_m).sqrt();
         let band = if band.is_finite() { band } else { 0.0 };
         let (nom_s, nom_x, nom_v) = (self.scale[0], self.scale[ix], self.scale[iv]);
@@ -113,10 +145,41 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let mut integral = 0.0;
         let mut h = self.exp_h;
         let mut fsal: Option<[f64; 4]> = None;
+        // The end of a step retaken to end on an event, and whether the event is a reversal
+        // (else Dupont's breakaway, where the deformation turns plastic).
         let mut event_target: Option<f64> = None;
+        let mut reversal = false;
         let mut rejected = false;
         let limit = self.radau.step_limit;
         let stats = &mut self.radau.stats;
+        // Dupont under a force drive, within the breakaway: the whole call in closed form where
+        // the deformation provably stays elastic (a stuck body ringing on the contact).
+        if let (Some(shape), Drive::Force) = (plastic, self.config.drive) {
+            let s_ba = shape.r_ba() * len;
+            let fd = &dynamics.tracks[InputId::FD.index()];
+            let forcing = Forcing {
+                d0: dynamics.drive_inputs(t).f_d,
+                d1: fd.slope,
+                amp: support.amp,
+                omega: support.omega,
+                phase: support.phase,
+                c0: support.track.map_or(0.0, |k| k.at(t)),
+                c1: support.track.map_or(0.0, |k| k.slope),
+            };
+            let m = self.params.m;
+            if s.abs() < s_ba && t < t_target {
+                if let Some(end) = elastic_step(s, x, v, t_target - t, k_t, m, s_ba, &forcing) {
+                    (s, x, v) = (end.s, end.x, end.v);
+                    integral += end.impulse;
+                    support.turn(end.turn);
+                    t = t_target;
+                    stats.steps += 1;
+                    if end.v_r != 0.0 {
+                        sigma = end.v_r.signum();
+                    }
+                }
+            }
+        }
         while t < t_target {
             if stats.steps + stats.rejected >= limit {
                 return Err(SimError::Solver(SolverError::WorkLimit {
@@ -125,14 +188,35 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 }));
             }
             let s0 = s;
+            // Dupont: the elastic room left on this branch and its plastic part's start.
+            let start = plastic.map(|shape| shape.start(sigma * s0 * inv_len));
             // The deformation after a relative displacement ξ from s0 on the branch σ.
-            let s_of = |xi: f64, sigma: f64| {
-                // Against the branch (a trial stage beyond a reversal) the expression grows
-                // exponentially: bounded, so that the error estimate rejects the step.
-                let e = (-sigma * xi * inv_len).min(50.0);
-                // Below −39, expm1 is −1 to the last bit: no call on a relaxed branch.
-                let em1 = if e < -39.0 { -1.0 } else { expm1(e) };
-                s0 - (sigma * len - s0) * em1
+            let s_of = |xi: f64, sigma: f64| match (plastic, start) {
+                (Some(shape), Some(start)) => {
+                    // Elastic up to the room left (and against the branch: a trial stage
+                    // beyond a reversal, where s and v_r point apart), then plastic.
+                    let du = sigma * xi * inv_len - start.room;
+                    if du <= 0.0 {
+                        s0 + xi
+                    } else {
+                        // z0·exp(−du), exp(−du) within the fast expm1's range.
+                        let z = if du < 39.0 {
+                            start.z0 * (1.0 + expm1(-du))
+                        } else {
+                            0.0
+                        };
+                        sigma * len * shape.plastic(z)
+                    }
+                }
+                _ => {
+                    // Against the branch (a trial stage beyond a reversal) the expression
+                    // grows exponentially: bounded, so that the error estimate rejects the
+                    // step.
+                    let e = (-sigma * xi * inv_len).min(50.0);
+                    // Below −39, expm1 is −1 to the last bit: no call on a relaxed branch.
+                    let em1 = if e < -39.0 { -1.0 } else { expm1(e) };
+                    s0 - (sigma * len - s0) * em1
+                }
             };
             let u0 = [0.0, x, v, 0.0];
             let k1 = match fsal {
@@ -183,11 +267,20 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let step = DoPriStep::take_staged(&mut rhs, t, &u0, &k1, hh);
             stats.rhs_evals += 6;
             let u1 = step.end();
-            // The error of s from that of ξ (ds/dξ is largest at the step's start, or its
-            // end on a step that went a little against σ).
+            // The error of s from that of ξ (Dahl: ds/dξ is largest at the step's start, or
+            // its end on a step that went a little against σ; Dupont: see below).
             let back = -sigma * u1[0] * inv_len;
-            let slope =
-                (1.0 - sigma * s0 * inv_len).abs() * if back > 0.0 { libm::exp(back) } else { 1.0 };
+            let slope = if let (Some(shape), Some(start)) = (plastic, start) {
+                // Dupont: 1 on an elastic part (or against the branch), else the plastic
+                // slope at the step's start, which falls along the step.
+                if start.room > 0.0 || back > 0.0 {
+                    1.0
+                } else {
+                    shape.slope(sigma * s0 * inv_len)
+                }
+            } else {
+                (1.0 - sigma * s0 * inv_len).abs() * if back > 0.0 { libm::exp(back) } else { 1.0 }
+            };
             let e = [
                 step.err[0] * slope / (rtol * (nom_s + s0.abs())),
                 step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),
@@ -226,6 +319,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                         stats.rejected += 1;
                         continue;
                     }
+                    reversal = true;
                     if theta < 1.0 {
                         event_target = Some(te);
                         h = hh;
@@ -233,6 +327,24 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     }
                     // At the step's end: the reversal is there.
                     event_target = Some(t + hh);
+                } else if let Some(room) = start.map(|b| b.room).filter(|&r| r > 0.0) {
+                    // Dupont's breakaway inside the step: the deformation's third derivative
+                    // jumps there, which the error estimate does not see; retake the step to
+                    // end just past it (the next one starts plastic).
+                    let gk = |theta: f64| room - sigma * step.dense(0, hh, theta) * inv_len;
+                    let end = gk(1.0);
+                    if end < 0.0 {
+                        let theta = root(&gk, (0.0, room), (1.0, end), BREAKAWAY_WITHIN);
+                        // (At the step's start, within the resolution of time, the step is
+                        // taken as it is.)
+                        if theta < 1.0 && theta * hh > 64.0 * f64::EPSILON * t.abs().max(hh) {
+                            reversal = false;
+                            event_target = Some(t + theta * hh);
+                            h = hh;
+                            fsal = Some(k1);
+                            continue;
+                        }
+                    }
                 }
             }
             stats.steps += 1;
@@ -252,7 +364,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 h_new = h_new.min(hh);
             }
             rejected = false;
-            if event_target.is_some() {
+            if event_target.is_some() && !reversal {
+                // Just past the breakaway: on along the same branch.
+                event_target = None;
+                h_new = h_new.max(h);
+            } else if event_target.is_some() {
                 // The reversal: the other branch from here; the step that ended on it was
                 // clipped and says little about the step size.
                 sigma = -sigma;

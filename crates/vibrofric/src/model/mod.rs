@@ -24,6 +24,7 @@
 mod contact;
 mod drive;
 mod dynamics;
+mod elastic;
 mod exact;
 mod exchange;
 mod explicit;

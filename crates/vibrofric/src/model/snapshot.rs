@@ -183,6 +183,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         c.radau_only = self.radau_only;
         c.exp_h = s.exp_h;
         c.direction = s.direction;
+        if c.params.r_ba == self.params.r_ba {
+            // The same breakaway ratio: the same shape, without fitting it again.
+            c.elastoplastic = self.elastoplastic.clone();
+        }
         c.step = StepMean {
             acc: [0.0; MAX_QUAD],
             last: s.step_mean.last,

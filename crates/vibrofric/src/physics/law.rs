@@ -176,6 +176,13 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn relaxation(&self) -> Option<Relaxation> {
         None
     }
+    /// Dupont's elasto-plastic relaxation in the relative displacement, where the law has one
+    /// (with friction): its length `s_ss`, stiffness `k_t` (`F_F = k_t·s`) and the breakaway
+    /// ratio `r_ba`, whose shape [`crate::physics::ElastoPlastic`] gives the deformation
+    /// along a branch.
+    fn breakaway(&self) -> Option<(Relaxation, f64)> {
+        None
+    }
     /// The law's linear structure at `v_r`, where its rate is linear in `s` with a scalar decay
     /// (Dahl with `kappa = 1`, LuGre; not Dupont, whose weight depends on `s`).
     fn linear<V: Vector>(&self, _vr: V) -> Option<Linear<V>> {
@@ -327,6 +334,7 @@ pub struct Dupont {
     k_t: f64,
     s_ss: f64,
     s_ba: f64,
+    r_ba: f64,
     inv_s_ss: f64,
 }
 
@@ -373,8 +381,18 @@ impl FrictionLaw for Dupont {
             k_t: p.k_t,
             s_ss,
             s_ba: p.r_ba * s_ss,
+            r_ba: p.r_ba,
             inv_s_ss: inverse_length(s_ss),
         }
+    }
+
+    fn breakaway(&self) -> Option<(Relaxation, f64)> {
+        let relax = Relaxation {
+            length: self.s_ss,
+            stiffness: self.k_t,
+            exponent: 1.0,
+        };
+        (self.inv_s_ss > 0.0).then_some((relax, self.r_ba))
     }
 
     #[inline(always)]
