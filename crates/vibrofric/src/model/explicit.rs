@@ -423,7 +423,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
 /// `2^k·(1 + p) − 1 = (2^k − 1) + 2^k·p`, exact for `k = 0`. Plain arithmetic: the same bits
 /// on every platform.
 #[inline(always)]
-fn expm1(x: f64) -> f64 {
+pub(super) fn expm1(x: f64) -> f64 {
     // ln 2 in two parts (fdlibm's): k·LN2_HI is exact for |k| < 2^11.
     const LN2_HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000);
     const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);

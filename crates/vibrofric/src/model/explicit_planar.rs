@@ -6,7 +6,8 @@
 //! `s_ss` is constant: `λ = ∫|v_r|/g dt` and `q` take that `g`, and the force (with its
 //! damping `h_t·ds/dt`) follows from the deformation at each stage as in the general model.
 //! On the x axis `|v_r|` has a kink at each sign change of `v_rx`, across which a step's error
-//! estimate is not to be trusted: such a step is retaken to end just past the sign change. The body, the integrals
+//! estimate is not to be trusted: such a step is retaken to end just past the sign change, and a
+//! step rejected across one is retried to end there. The body, the integrals
 //! `∫F_Fx dt`, `∫F_Fy dt` and the relaxation arc length `λ = ∫|v_r|/s_ss dt` are integrated by
 //! Dormand–Prince 5(4) with error control on the state; the integrals ride along with the
 //! fifth-order weights and do not steer the step.
@@ -30,11 +31,12 @@
 //! rest.
 
 use super::contact::Contact;
+use super::drive::DriveInputs;
 use super::drive::DriveKind;
-use super::dynamics::System;
+use super::dynamics::{Eval, System};
 use super::simulator::SimError;
-use crate::physics::{FrictionLaw, Vector};
-use crate::solver::dopri::{factor, DoPriStep, C};
+use crate::physics::{FrictionLaw, Vector, VelocityTerms};
+use crate::solver::dopri::{factor, Dense, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError};
 
 /// Width of the integrated vector: the largest state (6), the two integrals and the relaxation
@@ -43,10 +45,14 @@ const M: usize = 9;
 
 /// The relaxation over a step (`|v_r|·h/s_ss` at its start) from which the deformation is
 /// advanced exponentially in `λ` instead of as one more component of the explicit method. Below
-/// it the explicit method is accurate and about six times cheaper per step (an exponential step
-/// is taken twice and interpolates); at the default `k_t` = 1e8 nearly every step is below it,
-/// from about 1e10 on nearly every step above.
-const EXPONENTIAL_FROM: f64 = 0.5;
+/// it the explicit method is accurate and about four times cheaper per attempted step (an
+/// exponential step is taken twice and interpolates: 1.8 against 0.44 µs on RigTransverse at
+/// `k_t` = 1e12 and 1e8, CPU time); at the default `k_t` = 1e8 nearly every step is below it,
+/// from about 1e10 on nearly every step above. Between 0.5 and 1 the exponential step took no
+/// longer steps: VibratingContactLuGre (whose steps span 0.2 to 0.8 at 1e8) cost 48 µs per
+/// period at tolerance 1e-6 with a threshold of 0.5 and 36 µs with 1, its `F_Fx` error against
+/// Radau at 1e-12 9.98e-7 and 8.80e-7 of `F_C` (1e-8: 108 and 75 µs, 3.36e-9 both).
+const EXPONENTIAL_FROM: f64 = 1.0;
 
 /// The error control's tolerance as a fraction of the user's, on the largest scaled error of
 /// the state's components: the global errors of `F_Fx` and `F_Fy` are then at or below
@@ -66,7 +72,7 @@ pub(super) const STIFF_LIMIT: f64 = 1000.0;
 /// the contact damping `2·zeta_t·sqrt(m·k_t)` plus `h_v`, and the averaging window for which the
 /// planar explicit path is taken. Up to it the path was measured more accurate than Radau IIA
 /// at the same tolerance (VibratingContactLuGre against Radau at 1e-12, 0.05 s, at `k_t` = 1e8
-/// to 1e10, where the product is 4.2 to 42 at 2 kHz: at 1e-10, `F_Fx` 3e-11 to 1e-10 of `F_C` against
+/// to 1e10, where the product is 4.2 to 42 at 2 kHz: at 1e-10, `F_Fx` 1.4e-11 to 8.5e-11 of `F_C` against
 /// Radau's 5e-11 to 3.5e-9); at 1e11 (134) the window means of the exponential steps were 9
 /// times less accurate than Radau's at 1e-10, and Radau takes such contacts.
 const DAMPED_LIMIT: f64 = 100.0;
@@ -118,17 +124,29 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         );
         let bound = dynamics.law.bound();
         let relax = Relax::new(dynamics.law);
-        let rhs = |tt: f64, u: &[f64; M]| -> [f64; M] {
-            let e = sys.eval(tt, &u[..N]);
+        // The right-hand side at `(tt, u)` with the deformation `s` (the state's own, or an
+        // exponential stage's), given the relative velocity `vr` there and its decay rate
+        // `|v_r|/s_ss` (LuGre `|v_r|/g(v_r)`); the body's equations read only `u`'s body part.
+        let rhs_with = |u: &[f64; M], s: V, kin: &Kin<V>| -> [f64; M] {
+            let (ds, f) = dynamics.law.rate_force_at(s, kin.vr, &kin.terms);
+            let e = Eval {
+                s,
+                v: kin.v,
+                vr: kin.vr,
+                ds,
+                f,
+                drive: kin.drive,
+            };
             let r = sys.rhs_at::<N>(&e, &u[..N]);
             let mut out = [0.0; M];
             out[..N].copy_from_slice(r.as_slice());
-            out[N] = e.f.x();
-            out[N + 1] = e.f.y();
-            out[N + 2] = relax.decay(e.vr);
+            out[N] = f.x();
+            out[N + 1] = f.y();
+            out[N + 2] = kin.terms.decay;
             out
         };
-        let mut rhs = rhs;
+        let kin = |tt: f64, u: &[f64; M]| Kin::at(&sys, &relax, tt, &u[..N]);
+        let rhs = |tt: f64, u: &[f64; M]| rhs_with(u, V::read(&u[..V::DIM]), &kin(tt, u));
         let mut t = self.radau.t;
         let mut u = [0.0; M];
         u[..N].copy_from_slice(self.radau.y.as_slice());
@@ -137,7 +155,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let mut fsal: Option<[f64; M]> = None;
         let mut rejected = false;
         // The end of a step retaken to end just past a sign change of `v_rx` on the x axis.
-        let mut cut: Option<f64> = None;
+        // With whether it was located on an accepted step's extension.
+        let mut cut: Option<(f64, bool)> = None;
         let limit = self.radau.step_limit;
         let stats = &mut self.radau.stats;
         while t < t_target {
@@ -173,7 +192,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             }
             let mut hh = h.min(h_max);
             let mut last = false;
-            if let Some(te) = cut {
+            if let Some((te, _)) = cut {
                 hh = te - t;
             } else if t + 1.0001 * hh >= t_target {
                 hh = t_target - t;
@@ -183,56 +202,58 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
             }
             let mut err: f64 = 0.0;
+            // `v_r` at the stages of the step taken (of its last pass).
+            let mut vr_at = [V::default(); 7];
             let exponential = k1[N + 2] * hh >= EXPONENTIAL_FROM;
             let (step, mut u1) = if exponential {
                 // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
                 // the target `q = s_ss·v_r/|v_r|` interpolated in λ through the stages so far
                 // (their λ from the method's own stages of `dλ/dt = |v_r|/s_ss`): exact for
                 // that polynomial whatever the relaxation over the step.
-                let mut hist = Stages {
-                    lam: [0.0; 7],
-                    q: [[0.0; 2]; 7],
-                    s0: [u[0], if V::DIM == 2 { u[1] } else { 0.0 }],
-                    n: 1,
-                    bad: false,
-                };
-                hist.q[0] = relax.target(Self::relative_velocity(&sys, t, &u));
+                let s0 = [u[0], if V::DIM == 2 { u[1] } else { 0.0 }];
+                let mut hist = Stages::new(s0, kin(t, &u).target(), 1);
                 let step = {
                     let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
                         let i = hist.n;
                         hist.n += 1;
                         hist.lam[i] = y[N + 2];
-                        hist.q[i] = relax.target(Self::relative_velocity(&sys, tt, y));
-                        let s_i = if i == 6 {
-                            hist.relax(&[0, 1, 2, 3, 4, 6])
-                        } else {
-                            hist.relax(&[0, 1, 2, 3, 4, 5][..=i])
+                        let k = kin(tt, y);
+                        hist.q[i] = k.target();
+                        vr_at[i] = k.vr;
+                        let s_i = match i {
+                            1 => hist.relax([0, 1]),
+                            2 => hist.relax([0, 1, 2]),
+                            3 => hist.relax([0, 1, 2, 3]),
+                            4 => hist.relax([0, 1, 2, 3, 4]),
+                            5 => hist.relax([0, 1, 2, 3, 4, 5]),
+                            _ => hist.relax([0, 1, 2, 3, 4, 6]),
                         };
-                        let mut z = *y;
-                        z[..V::DIM].copy_from_slice(&s_i[..V::DIM]);
-                        rhs(tt, &z)
+                        rhs_with(y, V::read(&s_i[..V::DIM]), &k)
                     };
                     DoPriStep::take(&mut stage, t, &u, &k1, hh)
                 };
                 // The stages' velocities are of low order: a second pass with the deformation
                 // at each stage from the first pass's continuous extension (q at six
                 // equidistant points, the ends exact, λ from the same extension).
-                let mut first = Self::nodes(&sys, &step, t, hh, hist.s0, hist.q[0], &relax);
+                let dense = step.dense_all(hh);
+                let mut first = Self::nodes(&step, &dense, hist.s0, hist.q[0], |theta, z| {
+                    kin(t + theta * hh, z).target()
+                });
                 first.bad |= hist.bad;
-                let fit = first.fit(&[0, 1, 2, 3, 4, 5]);
+                let fit = first.fit([0, 1, 2, 3, 4, 5]);
                 let big = first.lam[5];
                 let step = match &fit {
                     Some(fit) => {
                         let (mut i, mut stage2) = (1, [0.0; 7]);
                         for (k, c) in C.iter().enumerate() {
-                            stage2[k] = step.dense(N + 2, hh, *c) / big;
+                            stage2[k] = dense.at(N + 2, *c) / big;
                         }
                         let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
                             let s_i = fit.at(stage2[i]);
                             i += 1;
-                            let mut z = *y;
-                            z[..V::DIM].copy_from_slice(&s_i[..V::DIM]);
-                            rhs(tt, &z)
+                            let k = kin(tt, y);
+                            vr_at[i - 1] = k.vr;
+                            rhs_with(y, V::read(&s_i[..V::DIM]), &k)
                         };
                         stats.rhs_evals += 6;
                         DoPriStep::take(&mut stage, t, &u, &k1, hh)
@@ -240,10 +261,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     None => step,
                 };
                 let mut u1 = step.end();
-                let mut fine = Self::nodes(&sys, &step, t, hh, hist.s0, hist.q[0], &relax);
+                let dense = step.dense_all(hh);
+                let mut fine = Self::nodes(&step, &dense, hist.s0, hist.q[0], |theta, z| {
+                    kin(t + theta * hh, z).target()
+                });
                 fine.bad |= first.bad;
-                let s5 = fine.relax(&[0, 1, 2, 3, 4, 5]);
-                let s4 = fine.relax(&[0, 2, 3, 4, 5]);
+                let s5 = fine.relax([0, 1, 2, 3, 4, 5]);
+                let s4 = fine.relax([0, 2, 3, 4, 5]);
                 let bad = fine.bad;
                 u1[..V::DIM].copy_from_slice(&s5[..V::DIM]);
                 for c in 0..V::DIM {
@@ -257,7 +281,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 }
                 (step, u1)
             } else {
-                let step = DoPriStep::take(&mut rhs, t, &u, &k1, hh);
+                let mut stage = |i: usize, tt: f64, y: &[f64; M]| -> [f64; M] {
+                    let k = kin(tt, y);
+                    vr_at[i] = k.vr;
+                    rhs_with(y, V::read(&y[..V::DIM]), &k)
+                };
+                let step = DoPriStep::take_staged(&mut stage, t, &u, &k1, hh);
                 let u1 = step.end();
                 for c in 0..V::DIM {
                     let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
@@ -275,49 +304,60 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             } else {
                 f64::INFINITY
             };
+            // On the x axis (no lateral relative velocity) `|v_r|`, and with it the rates, has a
+            // kink wherever `v_rx` changes sign, on which the error estimate of a step across it
+            // is not to be trusted: the step is retaken to end just past the sign change
+            // (located on the continuous extension), so that the kink falls between steps. A
+            // step that ends on a sign change located on a rejected step's extension is checked
+            // again.
+            let crossing = if cut.is_none_or(|(_, trusted)| !trusted) {
+                let vr0 = Self::relative_velocity(&sys, t, &u);
+                let sigma = vr0.x().signum();
+                let vr_i = |i: usize| if i == 0 { vr0 } else { vr_at[i] };
+                let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
+                let g = |i: usize| sigma * vr_i(i).x();
+                match (1..7).find(|&i| g(i) < 0.0) {
+                    Some(i) if vr0.x() != 0.0 && on_axis => {
+                        let end = step.end();
+                        let dense = step.dense_all(hh);
+                        let gd = |theta: f64| {
+                            let mut z = end;
+                            for (j, zj) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
+                                *zj = dense.at(j, theta);
+                            }
+                            sigma * Self::relative_velocity(&sys, t + theta * hh, &z).x()
+                        };
+                        let (ga, gb) = (g(i - 1).max(0.0), g(i));
+                        // Just past the sign change: within 1e-9 of the bracket's swing.
+                        let theta = super::explicit::root(
+                            &gd,
+                            (C[i - 1], ga),
+                            (C[i], gb),
+                            1e-9 * (ga - gb),
+                        );
+                        let te = t + theta * hh;
+                        (theta < 1.0 && te > t + 16.0 * f64::EPSILON * t.abs().max(hh))
+                            .then_some(te)
+                    }
+                    _ => None,
+                }
+            } else {
+                None
+            };
             if err > 1.0 {
                 stats.rejected += 1;
                 h = hh * factor(err).min(0.9);
                 rejected = true;
-                cut = None;
+                // A sign change within the next step: the next step ends just past it.
+                cut = crossing.filter(|&te| te - t <= h).map(|te| (te, false));
                 fsal = Some(k1);
                 continue;
             }
-            // On the x axis (no lateral relative velocity) `|v_r|`, and with it the rates, has a
-            // kink wherever `v_rx` changes sign, on which the error estimate of a step across it
-            // is not to be trusted: the step is retaken to end just past the sign change
-            // (located on the continuous extension), so that the kink falls between steps.
-            if cut.is_none() {
-                let vr0 = Self::relative_velocity(&sys, t, &u);
-                let sigma = vr0.x().signum();
-                let vr_i = |i: usize| Self::relative_velocity(&sys, t + C[i] * hh, &step.stages[i]);
-                let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
-                let g = |i: usize| sigma * vr_i(i).x();
-                if vr0.x() != 0.0 && on_axis {
-                    if let Some(i) = (1..7).find(|&i| g(i) < 0.0) {
-                        let end = step.end();
-                        let gd = |theta: f64| {
-                            let mut z = end;
-                            for (j, zj) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
-                                *zj = step.dense(j, hh, theta);
-                            }
-                            sigma * Self::relative_velocity(&sys, t + theta * hh, &z).x()
-                        };
-                        let theta = super::explicit::root(
-                            &gd,
-                            (C[i - 1], g(i - 1).max(0.0)),
-                            (C[i], g(i)),
-                            0.0,
-                        );
-                        let te = t + theta * hh;
-                        if theta < 1.0 && te > t + 16.0 * f64::EPSILON * t.abs().max(hh) {
-                            cut = Some(te);
-                            h = hh;
-                            fsal = Some(k1);
-                            continue;
-                        }
-                    }
-                }
+            if let Some(te) = crossing {
+                cut = Some((te, true));
+                h = hh;
+                fsal = Some(k1);
+                continue;
             }
             stats.steps += 1;
             u1[N + 2] = 0.0;
@@ -360,37 +400,28 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
 }
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
-    /// λ and `q` at six equidistant points of a step from its continuous extension (the
-    /// start's `q` given, the end's from the end state).
-    #[allow(clippy::too_many_arguments)]
+    /// λ and `q` at six equidistant points of a step from its continuous extension `dense`
+    /// (the start's `q` given, the end's from the end state; `target(theta, z)` is `q` at
+    /// `t + theta·h` and the state `z`).
     fn nodes(
-        sys: &System<'_, V, L, D>,
         step: &DoPriStep<M>,
-        t: f64,
-        hh: f64,
+        dense: &Dense<M>,
         s0: [f64; 2],
         q0: [f64; 2],
-        relax: &Relax<L>,
+        target: impl Fn(f64, &[f64; M]) -> [f64; 2],
     ) -> Stages {
-        let mut fine = Stages {
-            lam: [0.0; 7],
-            q: [[0.0; 2]; 7],
-            s0,
-            n: 0,
-            bad: false,
-        };
-        fine.q[0] = q0;
+        let mut fine = Stages::new(s0, q0, 0);
         let end = step.end();
         fine.lam[5] = end[N + 2];
-        fine.q[5] = relax.target(Self::relative_velocity(sys, t + hh, &end));
+        fine.q[5] = target(1.0, &end);
         for k in 1..5 {
             let theta = k as f64 * 0.2;
             let mut z = end;
             for (i, zi) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
-                *zi = step.dense(i, hh, theta);
+                *zi = dense.at(i, theta);
             }
-            fine.lam[k] = step.dense(N + 2, hh, theta);
-            fine.q[k] = relax.target(Self::relative_velocity(sys, t + theta * hh, &z));
+            fine.lam[k] = dense.at(N + 2, theta);
+            fine.q[k] = target(theta, &z);
         }
         fine
     }
@@ -403,49 +434,74 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     }
 }
 
-/// The law's relaxation at a relative velocity: Dahl's at its constant length `s_ss`, or a law
-/// linear in `s` (LuGre) at the length `g(v_r)` of its rate `ds/dt = (|v_r|/g)·(q − s)`.
+/// What the right-hand side needs at one time and state besides the deformation: the drive's
+/// inputs, the body's velocity, the relative velocity and its relaxation rate.
+struct Kin<V> {
+    drive: DriveInputs,
+    v: V,
+    vr: V,
+    /// The relaxation rate `|v_r|/s_ss` (LuGre `|v_r|/g(v_r)`) and what the force needs.
+    terms: VelocityTerms,
+}
+
+impl<V: Vector> Kin<V> {
+    #[inline(always)]
+    fn at<L: FrictionLaw, D: DriveKind<V>>(
+        sys: &System<'_, V, L, D>,
+        relax: &Relax<L>,
+        t: f64,
+        y: &[f64],
+    ) -> Self {
+        let drive = sys.dynamics.drive_inputs(t);
+        let v = sys.dynamics.drive.velocity(&y[V::DIM..], &drive);
+        let vr = v - sys.support(t);
+        Kin {
+            drive,
+            v,
+            vr,
+            terms: relax.terms(vr),
+        }
+    }
+
+    /// Where the deformation relaxes to: `v_r/decay` (`s_ss·v_r/|v_r|`, LuGre
+    /// `g(v_r)·v_r/|v_r|`), 0 at `v_r` = 0.
+    #[inline(always)]
+    fn target(&self) -> [f64; 2] {
+        if self.terms.decay > 0.0 {
+            let q = self.vr * (1.0 / self.terms.decay);
+            [q.x(), q.y()]
+        } else {
+            [0.0; 2]
+        }
+    }
+}
+
+/// The law's relaxation rate at a relative velocity: Dahl's at its constant length `s_ss`, or
+/// a law linear in `s` (LuGre) at the length `g(v_r)` of its rate `ds/dt = (|v_r|/g)·(q − s)`.
 struct Relax<L> {
     law: L,
-    /// Dahl's `s_ss` and its inverse.
-    dahl: Option<(f64, f64)>,
+    /// Dahl's `1/s_ss`.
+    dahl: Option<f64>,
 }
 
 impl<L: FrictionLaw> Relax<L> {
     fn new(law: L) -> Self {
         Relax {
             law,
-            dahl: law.relaxation().map(|r| (r.length, 1.0 / r.length)),
+            dahl: law.relaxation().map(|r| 1.0 / r.length),
         }
     }
 
-    /// The relaxation rate `dλ/dt`: `|v_r|/s_ss`, LuGre `|v_r|/g(v_r)`.
+    /// The relaxation rate `dλ/dt` (`|v_r|/s_ss`, LuGre `|v_r|/g(v_r)`) and the law's other
+    /// terms at `v_r`.
     #[inline(always)]
-    fn decay<V: Vector>(&self, vr: V) -> f64 {
+    fn terms<V: Vector>(&self, vr: V) -> VelocityTerms {
         match self.dahl {
-            Some((_, inv_len)) => vr.norm() * inv_len,
-            None => self.law.decay(vr),
-        }
-    }
-
-    /// Where the deformation relaxes to at `v_r`: `s_ss·v_r/|v_r|`, LuGre `g(v_r)·v_r/|v_r|`
-    /// (0 at `v_r` = 0).
-    #[inline(always)]
-    fn target<V: Vector>(&self, vr: V) -> [f64; 2] {
-        match self.dahl {
-            Some((len, _)) => {
-                let w = vr.norm();
-                if w > 0.0 {
-                    let q = vr * (len / w);
-                    [q.x(), q.y()]
-                } else {
-                    [0.0; 2]
-                }
-            }
-            None => self
-                .law
-                .linear(vr)
-                .map_or([0.0; 2], |lin| [lin.target.x(), lin.target.y()]),
+            Some(inv_len) => VelocityTerms {
+                decay: vr.norm() * inv_len,
+                damping: 0.0,
+            },
+            None => self.law.velocity_terms(vr),
         }
     }
 }
@@ -459,11 +515,27 @@ struct Stages {
     n: usize,
     /// The nodes were not increasing in λ: the step is rejected.
     bad: bool,
+    /// `1/(λ_j − λ_k)` for `k < j` once a fit has needed it (0 until then): the divided
+    /// differences of both components and every fit through the same nodes share them.
+    inv: [[f64; 7]; 7],
 }
 
 impl Stages {
+    fn new(s0: [f64; 2], q0: [f64; 2], n: usize) -> Self {
+        let mut q = [[0.0; 2]; 7];
+        q[0] = q0;
+        Stages {
+            lam: [0.0; 7],
+            q,
+            s0,
+            n,
+            bad: false,
+            inv: [[0.0; 7]; 7],
+        }
+    }
+
     /// `s` at the last of `nodes` (see [`Fit`]).
-    fn relax(&mut self, nodes: &[usize]) -> [f64; 2] {
+    fn relax<const K: usize>(&mut self, nodes: [usize; K]) -> [f64; 2] {
         match self.fit(nodes) {
             Some(f) => f.at(1.0),
             None => self.s0,
@@ -471,14 +543,15 @@ impl Stages {
     }
 
     /// The interpolant of `q` through `nodes` in `μ = λ/Λ`, `Λ` the last node's `λ`; `None`
-    /// (and the step marked bad) where the nodes do not increase in λ.
-    fn fit(&mut self, nodes: &[usize]) -> Option<Fit> {
-        let n = nodes.len();
+    /// (and the step marked bad) where the nodes do not increase in λ. The number of nodes is
+    /// a constant, so that the loops unroll and the coefficients stay in registers.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // the divided differences index in lockstep
+    fn fit<const K: usize>(&mut self, nodes: [usize; K]) -> Option<Fit<K>> {
+        let n = K;
         let big = self.lam[nodes[n - 1]];
-        let mut mu = [0.0; 6];
-        for (k, &j) in nodes.iter().enumerate() {
-            mu[k] = self.lam[j] / big;
-            if k > 0 && mu[k] <= mu[k - 1] {
+        for k in 1..n {
+            if self.lam[nodes[k]] <= self.lam[nodes[k - 1]] {
                 self.bad = true;
             }
         }
@@ -486,16 +559,38 @@ impl Stages {
             self.bad = true;
             return None;
         }
-        let mut poly = [[0.0; 6]; 2];
-        for (c, pc) in poly.iter_mut().enumerate() {
+        let inv_big = 1.0 / big;
+        let mut mu = [0.0; K];
+        for (k, &j) in nodes.iter().enumerate() {
+            mu[k] = self.lam[j] * inv_big;
+        }
+        // `1/(μ_j − μ_(j−k)) = Λ/(λ_j − λ_(j−k))` for the divided differences.
+        let mut w = [[0.0; K]; K];
+        for k in 1..n {
+            for j in k..n {
+                let (a, b) = (nodes[j], nodes[j - k]);
+                if self.inv[a][b] == 0.0 {
+                    self.inv[a][b] = 1.0 / (self.lam[a] - self.lam[b]);
+                }
+                w[k][j] = big * self.inv[a][b];
+            }
+        }
+        let mut poly = [[0.0; K]; 2];
+        // A component that is 0 throughout (the lateral one of a motion on the x axis) stays 0.
+        let comps = if self.s0[1] == 0.0 && nodes.iter().all(|&j| self.q[j][1] == 0.0) {
+            1
+        } else {
+            2
+        };
+        for (c, pc) in poly.iter_mut().enumerate().take(comps) {
             // Divided differences, then the monomial coefficients by Horner on the Newton form.
-            let mut dd = [0.0; 6];
+            let mut dd = [0.0; K];
             for (k, &j) in nodes.iter().enumerate() {
                 dd[k] = self.q[j][c];
             }
             for k in 1..n {
                 for j in (k..n).rev() {
-                    dd[j] = (dd[j] - dd[j - 1]) / (mu[j] - mu[j - k]);
+                    dd[j] = (dd[j] - dd[j - 1]) * w[k][j];
                 }
             }
             pc[0] = dd[n - 1];
@@ -506,48 +601,69 @@ impl Stages {
                 pc[0] = -mu[i] * pc[0] + dd[i];
             }
         }
+        // `s0 − P(0)`: G_m(0) = (−x)^m·m! (see `Fit::at`).
+        let mut g0 = [1.0; K];
+        for m in 1..n {
+            g0[m] = -inv_big * m as f64 * g0[m - 1];
+        }
+        let mut c0 = [0.0; 2];
+        for c in 0..comps {
+            let p0: f64 = (0..n).map(|m| poly[c][m] * g0[m]).sum();
+            c0[c] = self.s0[c] - p0;
+        }
         Some(Fit {
             poly,
-            n,
+            comps,
             big,
-            s0: self.s0,
+            inv_big,
+            c0,
         })
     }
 }
 
-/// The solution of `ds/dλ = p(λ) − s`, `s(0) = s0`, `p` a polynomial of degree `n − 1` in
+/// The solution of `ds/dλ = p(λ) − s`, `s(0) = s0`, `p` a polynomial of degree `K − 1` in
 /// `μ = λ/Λ`: `s = P(λ) + (s0 − P(0))·exp(−λ)` with the polynomial particular solution
 /// `P = Σ_k (−1)^k·d^k p/dλ^k`. Its terms shrink with `1/Λ`; the exponential path is taken
 /// from a relaxation of [`EXPONENTIAL_FROM`] per step on.
-struct Fit {
-    poly: [[f64; 6]; 2],
-    n: usize,
+struct Fit<const K: usize> {
+    poly: [[f64; K]; 2],
+    /// The components fitted (the second is 0 when only one is).
+    comps: usize,
     big: f64,
-    s0: [f64; 2],
+    inv_big: f64,
+    /// `s0 − P(0)`.
+    c0: [f64; 2],
 }
 
-impl Fit {
+impl<const K: usize> Fit<K> {
     /// `s` at `λ = μ·Λ`.
+    #[inline(always)]
     fn at(&self, mu: f64) -> [f64; 2] {
-        // G_m(μ) = Σ_k (−x)^k·m!/(m − k)!·μ^(m−k) = μ^m − x·m·G_(m−1)(μ), x = 1/Λ; at μ = 0
-        // it is (−x)^m·m!.
-        let x = 1.0 / self.big;
-        let (mut g, mut g0, mut pw) = ([1.0; 6], [1.0; 6], 1.0);
-        for m in 1..self.n {
+        // G_m(μ) = Σ_k (−x)^k·m!/(m − k)!·μ^(m−k) = μ^m − x·m·G_(m−1)(μ), x = 1/Λ.
+        let x = self.inv_big;
+        let (mut g, mut pw) = ([1.0; K], 1.0);
+        for m in 1..K {
             pw *= mu;
             g[m] = pw - x * m as f64 * g[m - 1];
-            g0[m] = -x * m as f64 * g0[m - 1];
         }
-        let decay = libm::exp(-self.big * mu);
+        let decay = exp_neg(self.big * mu);
         let mut out = [0.0; 2];
-        for (c, o) in out.iter_mut().enumerate() {
-            let (mut p, mut p0) = (0.0, 0.0);
-            for m in 0..self.n {
-                p += self.poly[c][m] * g[m];
-                p0 += self.poly[c][m] * g0[m];
-            }
-            *o = p + (self.s0[c] - p0) * decay;
+        for (c, o) in out.iter_mut().enumerate().take(self.comps) {
+            let p: f64 = (0..K).map(|m| self.poly[c][m] * g[m]).sum();
+            *o = p + self.c0[c] * decay;
         }
         out
+    }
+}
+
+/// `exp(−z)` for `z ≥ 0` up to rounding, from the explicit path's arithmetic `expm1`:
+/// `expm1(−z) + 1`, exact to about 1e-16 absolute (all the relaxation's factor needs), and 0
+/// beyond `z` = 39 where it is below 1.2e-17.
+#[inline(always)]
+fn exp_neg(z: f64) -> f64 {
+    if z > 39.0 {
+        0.0
+    } else {
+        super::explicit::expm1(-z.max(-1.0)) + 1.0
     }
 }

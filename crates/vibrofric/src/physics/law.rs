@@ -150,6 +150,15 @@ pub struct Linear<V> {
     pub force_0: V,
 }
 
+/// A law's functions of the relative velocity alone (see [`FrictionLaw::velocity_terms`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct VelocityTerms {
+    /// The decay rate of [`FrictionLaw::linear`]: [`FrictionLaw::decay`].
+    pub decay: f64,
+    /// LuGre's contact damping `h_t(v_r)` (0 for the other laws).
+    pub damping: f64,
+}
+
 /// One friction law with its constants precomputed from [`Params`].
 pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     /// Whether the law has a discontinuity off `v_r = 0` in planar motion that the integrator
@@ -194,6 +203,24 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     /// linear structure), without the force terms.
     fn decay<V: Vector>(&self, vr: V) -> f64 {
         self.linear(vr).map_or(0.0, |lin| lin.decay)
+    }
+    /// The law's functions of `v_r` alone, once for several deformations at that `v_r` (see
+    /// [`FrictionLaw::rate_force_at`]).
+    #[inline(always)]
+    fn velocity_terms<V: Vector>(&self, vr: V) -> VelocityTerms {
+        VelocityTerms {
+            decay: self.decay(vr),
+            damping: 0.0,
+        }
+    }
+    /// `ds/dt` and the friction force at `(s, v_r)` given `terms = self.velocity_terms(v_r)`:
+    /// the values of [`FrictionLaw::rate`] and [`FrictionLaw::force`], to the last bit, without
+    /// evaluating again what the terms already took (LuGre's `g(v_r)` and `h_t(v_r)`).
+    #[inline(always)]
+    fn rate_force_at<V: Vector>(&self, s: V, vr: V, terms: &VelocityTerms) -> (V, V) {
+        let _ = terms;
+        let ds = self.rate(s, vr);
+        (ds, self.force(s, vr, ds))
     }
     /// The viscous coefficient `h_v` of a force term `h_v·v_r` (LuGre), 0 for laws without one:
     /// the only term of the force that does not scale with the normal load.
@@ -451,7 +478,13 @@ impl LuGre {
     /// relaxation rate `|v_r|/g` unbounded.
     #[inline(always)]
     fn g(&self, vr2: f64) -> f64 {
-        let g = (self.f_c + (self.f_s - self.f_c) * libm::exp(-vr2 * self.inv_v_s2)) / self.k_t;
+        self.g_of(libm::exp(-vr2 * self.inv_v_s2))
+    }
+
+    /// `g` from `exp(−v_r²/v_S²)`.
+    #[inline(always)]
+    fn g_of(&self, stribeck: f64) -> f64 {
+        let g = (self.f_c + (self.f_s - self.f_c) * stribeck) / self.k_t;
         g.max(G_FLOOR * self.f_c.max(self.f_s) / self.k_t)
             .max(1e-290)
     }
@@ -559,6 +592,35 @@ impl FrictionLaw for LuGre {
         }
         let vr2 = vr.dot(vr);
         vr2.sqrt() / self.g(vr2)
+    }
+
+    /// One exponential where the Stribeck and damping velocities are equal (the default).
+    #[inline(always)]
+    fn velocity_terms<V: Vector>(&self, vr: V) -> VelocityTerms {
+        if self.f_c == 0.0 && self.f_s == 0.0 {
+            return VelocityTerms::default();
+        }
+        let vr2 = vr.dot(vr);
+        let stribeck = libm::exp(-vr2 * self.inv_v_s2);
+        let damping = if self.inv_v_e2 == self.inv_v_s2 {
+            stribeck
+        } else {
+            libm::exp(-vr2 * self.inv_v_e2)
+        };
+        VelocityTerms {
+            decay: vr2.sqrt() / self.g_of(stribeck),
+            damping: self.h_t0 * damping,
+        }
+    }
+
+    #[inline(always)]
+    fn rate_force_at<V: Vector>(&self, s: V, vr: V, terms: &VelocityTerms) -> (V, V) {
+        if self.f_c == 0.0 && self.f_s == 0.0 {
+            return (V::default(), vr * self.h_v);
+        }
+        // As `rate` and `force`, with `|v_r|/g(v_r)` and `h_t(v_r)` from the terms.
+        let ds = vr - s * terms.decay;
+        (ds, s * self.k_t + ds * terms.damping + vr * self.h_v)
     }
 
     fn linear<V: Vector>(&self, vr: V) -> Option<Linear<V>> {
@@ -694,11 +756,23 @@ mod tests {
                 for (a, b) in [(f.x, f_lin.x), (f.y, f_lin.y)] {
                     assert!((a - b).abs() <= 1e-12 * (f.norm() + 1.0), "{k}: {a} {b}");
                 }
+                // The rate and force from the velocity terms are the law's own, to the last bit.
+                let terms = law.velocity_terms(vr);
+                assert_eq!(terms.decay.to_bits(), law.decay(vr).to_bits(), "{k}");
+                let (ds2, f2) = law.rate_force_at(s, vr, &terms);
+                for (a, b) in [(ds, ds2), (f, f2)] {
+                    assert_eq!(
+                        (a.x.to_bits(), a.y.to_bits()),
+                        (b.x.to_bits(), b.y.to_bits())
+                    );
+                }
             }
         }
         let s_ss = p.f_c() / p.k_t;
         check(Dahl::new(&p), s_ss);
         check(LuGre::new(&p), s_ss);
+        // A damping velocity apart from the Stribeck velocity: two exponentials.
+        check(LuGre::new(&Params { v_e: 3e-4, ..p }), s_ss);
         assert!(Dupont::new(&p).linear(1e-3).is_none());
     }
 

@@ -11,7 +11,8 @@ mod vector;
 
 pub use elastoplastic::{BranchStart, ElastoPlastic};
 pub use law::{
-    Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation, NO_FRICTION_LENGTH,
+    Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation, VelocityTerms,
+    NO_FRICTION_LENGTH,
 };
 pub use support::{Harmonic, InputTrack};
 pub use vector::{Planar, Vector};

@@ -132,6 +132,43 @@ impl<const M: usize> DoPriStep<M> {
     }
 }
 
+/// The continuous extension of every component of one step, its coefficients computed once:
+/// [`DoPriStep::dense`] at many points for the price of a few products per component and point.
+#[derive(Clone, Copy, Debug)]
+pub struct Dense<const M: usize> {
+    y0: [f64; M],
+    r: [[f64; M]; 4],
+}
+
+impl<const M: usize> DoPriStep<M> {
+    /// The continuous extension's coefficients for a step of length `h`.
+    pub fn dense_all(&self, h: f64) -> Dense<M> {
+        let mut d = Dense {
+            y0: self.stages[0],
+            r: [[0.0; M]; 4],
+        };
+        for m in 0..M {
+            let r2 = self.stages[6][m] - self.stages[0][m];
+            let r3 = h * self.k[0][m] - r2;
+            d.r[0][m] = r2;
+            d.r[1][m] = r3;
+            d.r[2][m] = r2 - h * self.k[6][m] - r3;
+            d.r[3][m] = h * (0..7).map(|i| D[i] * self.k[i][m]).sum::<f64>();
+        }
+        d
+    }
+}
+
+impl<const M: usize> Dense<M> {
+    /// Component `m` at `t + theta·h`: the value of [`DoPriStep::dense`], to the last bit.
+    #[inline(always)]
+    pub fn at(&self, m: usize, theta: f64) -> f64 {
+        let s = 1.0 - theta;
+        let r = &self.r;
+        self.y0[m] + theta * (r[0][m] + s * (r[1][m] + theta * (r[2][m] + s * r[3][m])))
+    }
+}
+
 /// The step-size factor after an attempt with scaled error `err` (accept when ≤ 1): the
 /// fifth root with a safety factor, bounded to [0.2, 10] (DOPRI5's bounds).
 pub fn factor(err: f64) -> f64 {
@@ -215,5 +252,21 @@ mod tests {
             assert!(ratio > 20.0 && ratio < 40.0, "{errs:?}");
         }
         assert!(errs[2].1 < 1e-10, "{errs:?}");
+    }
+
+    /// The precomputed continuous extension is `dense`'s, bit for bit, in every component.
+    #[test]
+    fn dense_all_is_dense() {
+        let mut f = |t: f64, y: &[f64; 2]| [y[1], -y[0] * (1.0 + t.sin())];
+        let y = [0.3, -1.2];
+        let k1 = f(0.1, &y);
+        let h = 0.37;
+        let st = DoPriStep::take(&mut f, 0.1, &y, &k1, h);
+        let d = st.dense_all(h);
+        for m in 0..2 {
+            for theta in [0.0, 0.2, 0.55, 8.0 / 9.0, 1.0] {
+                assert_eq!(d.at(m, theta).to_bits(), st.dense(m, h, theta).to_bits());
+            }
+        }
     }
 }
