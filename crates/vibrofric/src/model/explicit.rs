@@ -22,9 +22,11 @@
 use super::contact::Contact;
 use super::drive::DriveKind;
 use super::dynamics::Dynamics;
-use super::elastic::{elastic_step, Forcing};
+use super::elastic::{elastic_step, ElasticEnd, Forcing};
 use super::simulator::SimError;
-use crate::physics::{trig, ElastoPlastic, FrictionLaw, InputTrack, Relaxation, Vector};
+use crate::physics::{
+    trig, BranchStart, ElastoPlastic, FrictionLaw, InputTrack, Relaxation, Vector,
+};
 use crate::solver::dopri::{factor, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError};
 use crate::table::{Drive, InputId};
@@ -95,6 +97,33 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         shape.clone().map(|shape| (relax, Some(shape)))
     }
 
+    /// Dupont under a force drive, within the breakaway `s_ba`: the whole call in closed form
+    /// where the deformation provably stays elastic (a stuck body ringing on the contact), from
+    /// `[s, x, v]` at `t`.
+    fn elastic_call(
+        &self,
+        s_ba: f64,
+        k_t: f64,
+        support: &StageSupport,
+        t: f64,
+        t_target: f64,
+        [s, x, v]: [f64; 3],
+    ) -> Option<ElasticEnd> {
+        if self.config.drive != Drive::Force || s.abs() >= s_ba || t >= t_target {
+            return None;
+        }
+        let forcing = Forcing {
+            d0: self.dynamics.drive_inputs(t).f_d,
+            d1: self.dynamics.tracks[InputId::FD.index()].slope,
+            amp: support.amp,
+            omega: support.omega,
+            phase: support.phase,
+            c0: support.track.map_or(0.0, |k| k.at(t)),
+            c1: support.track.map_or(0.0, |k| k.slope),
+        };
+        elastic_step(s, x, v, t_target - t, k_t, self.params.m, s_ba, &forcing)
+    }
+
     /// Advances the explicit path to `t_target`: `∫F_F dt` over the call.
     pub(super) fn advance_explicit(&mut self, t_target: f64, h_max: f64) -> Result<Quad, SimError> {
         let (relax, plastic) = self
@@ -102,7 +131,6 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             .expect("explicit path without a relaxation");
         let plastic = plastic.as_deref();
         let (len, k_t) = (relax.length, relax.stiffness);
-        let inv_len = 1.0 / len;
         let (ix, iv) = (V::DIM, 2 * V::DIM);
         let inv_m = 1.0 / self.params.m;
         let tol = self.radau.tolerance();
@@ -155,35 +183,19 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let mut reversal = false;
         let mut rejected = false;
         let limit = self.radau.step_limit;
-        let stats = &mut self.radau.stats;
-        // Dupont under a force drive, within the breakaway: the whole call in closed form where
-        // the deformation provably stays elastic (a stuck body ringing on the contact).
-        if let (Some(shape), Drive::Force) = (plastic, self.config.drive) {
-            let s_ba = shape.r_ba() * len;
-            let fd = &dynamics.tracks[InputId::FD.index()];
-            let forcing = Forcing {
-                d0: dynamics.drive_inputs(t).f_d,
-                d1: fd.slope,
-                amp: support.amp,
-                omega: support.omega,
-                phase: support.phase,
-                c0: support.track.map_or(0.0, |k| k.at(t)),
-                c1: support.track.map_or(0.0, |k| k.slope),
-            };
-            let m = self.params.m;
-            if s.abs() < s_ba && t < t_target {
-                if let Some(end) = elastic_step(s, x, v, t_target - t, k_t, m, s_ba, &forcing) {
-                    (s, x, v) = (end.s, end.x, end.v);
-                    integral += end.impulse;
-                    support.turn(end.turn);
-                    t = t_target;
-                    stats.steps += 1;
-                    if end.v_r != 0.0 {
-                        sigma = end.v_r.signum();
-                    }
-                }
+        if let Some(end) = plastic.and_then(|shape| {
+            self.elastic_call(shape.r_ba() * len, k_t, &support, t, t_target, [s, x, v])
+        }) {
+            (s, x, v) = (end.s, end.x, end.v);
+            integral += end.impulse;
+            support.turn(end.turn);
+            t = t_target;
+            self.radau.stats.steps += 1;
+            if end.v_r != 0.0 {
+                sigma = end.v_r.signum();
             }
         }
+        let stats = &mut self.radau.stats;
         while t < t_target {
             if stats.steps + stats.rejected >= limit {
                 return Err(SimError::Solver(SolverError::WorkLimit {
@@ -192,36 +204,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 }));
             }
             let s0 = s;
-            // Dupont: the elastic room left on this branch and its plastic part's start.
-            let start = plastic.map(|shape| shape.start(sigma * s0 * inv_len));
-            // The deformation after a relative displacement ξ from s0 on the branch σ.
-            let s_of = |xi: f64, sigma: f64| match (plastic, start) {
-                (Some(shape), Some(start)) => {
-                    // Elastic up to the room left (and against the branch: a trial stage
-                    // beyond a reversal, where s and v_r point apart), then plastic.
-                    let du = sigma * xi * inv_len - start.room;
-                    if du <= 0.0 {
-                        s0 + xi
-                    } else {
-                        // z0·exp(−du), exp(−du) within the fast expm1's range.
-                        let z = if du < 39.0 {
-                            start.z0 * (1.0 + expm1(-du))
-                        } else {
-                            0.0
-                        };
-                        sigma * len * shape.plastic(z)
-                    }
-                }
-                _ => {
-                    // Against the branch (a trial stage beyond a reversal) the expression
-                    // grows exponentially: bounded, so that the error estimate rejects the
-                    // step.
-                    let e = (-sigma * xi * inv_len).min(50.0);
-                    // Below −39, expm1 is −1 to the last bit: no call on a relaxed branch.
-                    let em1 = if e < -39.0 { -1.0 } else { expm1(e) };
-                    s0 - (sigma * len - s0) * em1
-                }
-            };
+            let branch = Branch::new(s0, sigma, len, plastic);
             let u0 = [0.0, x, v, 0.0];
             let k1 = match fsal {
                 Some(k) => k,
@@ -271,7 +254,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let (vs_at, turn) = support.stages(t, hh);
             let mut s_at = [s0; 7];
             let mut rhs = |i: usize, tt: f64, u: &[f64; 4]| {
-                let si = s_of(u[0], sigma);
+                let si = branch.at(u[0]);
                 s_at[i] = si;
                 let f = k_t * si;
                 let w = vs_at[i];
@@ -280,20 +263,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let step = DoPriStep::take_staged(&mut rhs, t, &u0, &k1, hh);
             stats.rhs_evals += 6;
             let u1 = step.end();
-            // The error of s from that of ξ (Dahl: ds/dξ is largest at the step's start, or
-            // its end on a step that went a little against σ; Dupont: see below).
-            let back = -sigma * u1[0] * inv_len;
-            let slope = if let (Some(shape), Some(start)) = (plastic, start) {
-                // Dupont: 1 on an elastic part (or against the branch), else the plastic
-                // slope at the step's start, which falls along the step.
-                if start.room > 0.0 || back > 0.0 {
-                    1.0
-                } else {
-                    shape.slope(sigma * s0 * inv_len)
-                }
-            } else {
-                (1.0 - sigma * s0 * inv_len).abs() * if back > 0.0 { libm::exp(back) } else { 1.0 }
-            };
+            let slope = branch.slope(u1[0]);
             let e = [
                 step.err[0] * slope / (rtol * (nom_s + s0.abs())),
                 step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),
@@ -313,51 +283,37 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 fsal = Some(k1);
                 continue;
             }
-            // A sign change of v_r inside the step: retake the step to end on it.
+            // An event inside the step: retake the step to end on it.
             if event_target.is_none() {
-                let g = |i: usize| sigma * (step.stages[i][2] - vs_at[i]) + band;
-                if let Some(i) = (1..7).find(|&i| g(i) < 0.0) {
-                    let vs_fn = &vs;
-                    let gd = |theta: f64| {
-                        sigma * (step.dense(2, hh, theta) - vs_fn(t + theta * hh)) + band
-                    };
-                    let theta = root(&gd, (C[i - 1], g(i - 1).max(0.0)), (C[i], g(i)), band);
-                    let te = t + theta * hh;
-                    fsal = Some(k1);
-                    if te <= t {
+                match event_in(&step, &vs_at, &vs, &branch, band, t, hh) {
+                    Some(Event::AtStart) => {
                         // The reversal is at the step's start: the other branch from here. The
                         // attempt counts as rejected, so the work limit bounds any repetition.
+                        fsal = Some(k1);
                         sigma = -sigma;
                         stats.events += 1;
                         stats.rejected += 1;
                         continue;
                     }
-                    reversal = true;
-                    if theta < 1.0 {
-                        event_target = Some(te);
-                        h = hh;
-                        continue;
-                    }
-                    // At the step's end: the reversal is there.
-                    event_target = Some(t + hh);
-                } else if let Some(room) = start.map(|b| b.room).filter(|&r| r > 0.0) {
-                    // Dupont's breakaway inside the step: the deformation's third derivative
-                    // jumps there, which the error estimate does not see; retake the step to
-                    // end just past it (the next one starts plastic).
-                    let gk = |theta: f64| room - sigma * step.dense(0, hh, theta) * inv_len;
-                    let end = gk(1.0);
-                    if end < 0.0 {
-                        let theta = root(&gk, (0.0, room), (1.0, end), BREAKAWAY_WITHIN);
-                        // (At the step's start, within the resolution of time, the step is
-                        // taken as it is.)
-                        if theta < 1.0 && theta * hh > 64.0 * f64::EPSILON * t.abs().max(hh) {
-                            reversal = false;
+                    Some(Event::Reversal(theta)) => {
+                        fsal = Some(k1);
+                        reversal = true;
+                        if theta < 1.0 {
                             event_target = Some(t + theta * hh);
                             h = hh;
-                            fsal = Some(k1);
                             continue;
                         }
+                        // At the step's end: the reversal is there.
+                        event_target = Some(t + hh);
                     }
+                    Some(Event::Breakaway(theta)) => {
+                        reversal = false;
+                        event_target = Some(t + theta * hh);
+                        h = hh;
+                        fsal = Some(k1);
+                        continue;
+                    }
+                    None => {}
                 }
             }
             stats.steps += 1;
@@ -413,6 +369,136 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.exp_h = h;
         self.direction = sigma;
         Ok([integral, 0.0])
+    }
+}
+
+/// An event inside an explicit step, at the fraction `theta` of it.
+enum Event {
+    /// A sign change of `v_r` at the step's start.
+    AtStart,
+    /// A sign change of `v_r` just before `theta` (in `(0, 1]`).
+    Reversal(f64),
+    /// Dupont's breakaway just before `theta` (in `(0, 1)`).
+    Breakaway(f64),
+}
+
+/// The first event inside `step` (of length `h` from `t`, the support velocity `vs_at` at its
+/// stages and `vs` at any time): a sign change of `v_r` beyond `band`, located on the
+/// continuous extension; else, on Dupont's elastic part, the breakaway, where the
+/// deformation's third derivative jumps, which the error estimate does not see. A breakaway at
+/// the step's start within the resolution of time is none.
+fn event_in(
+    step: &DoPriStep<4>,
+    vs_at: &[f64; 7],
+    vs: &impl Fn(f64) -> f64,
+    branch: &Branch,
+    band: f64,
+    t: f64,
+    h: f64,
+) -> Option<Event> {
+    let sigma = branch.sigma;
+    let g = |i: usize| sigma * (step.stages[i][2] - vs_at[i]) + band;
+    if let Some(i) = (1..7).find(|&i| g(i) < 0.0) {
+        let gd = |theta: f64| sigma * (step.dense(2, h, theta) - vs(t + theta * h)) + band;
+        let theta = root(&gd, (C[i - 1], g(i - 1).max(0.0)), (C[i], g(i)), band);
+        return Some(if t + theta * h <= t {
+            Event::AtStart
+        } else {
+            Event::Reversal(theta)
+        });
+    }
+    let room = branch.room()?;
+    let gk = |theta: f64| room - sigma * step.dense(0, h, theta) * branch.inv_len;
+    let end = gk(1.0);
+    if end >= 0.0 {
+        return None;
+    }
+    let theta = root(&gk, (0.0, room), (1.0, end), BREAKAWAY_WITHIN);
+    (theta < 1.0 && theta * h > 64.0 * f64::EPSILON * t.abs().max(h))
+        .then_some(Event::Breakaway(theta))
+}
+
+/// The deformation along the branch `σ` from `s0`, as a function of the relative displacement
+/// `ξ` since the step's start.
+#[derive(Clone, Copy)]
+struct Branch<'a> {
+    s0: f64,
+    sigma: f64,
+    len: f64,
+    inv_len: f64,
+    /// Dupont: its shape and the branch's elastic room and plastic start.
+    plastic: Option<(&'a ElastoPlastic, BranchStart)>,
+}
+
+impl<'a> Branch<'a> {
+    fn new(s0: f64, sigma: f64, len: f64, shape: Option<&'a ElastoPlastic>) -> Self {
+        let inv_len = 1.0 / len;
+        Branch {
+            s0,
+            sigma,
+            len,
+            inv_len,
+            plastic: shape.map(|shape| (shape, shape.start(sigma * s0 * inv_len))),
+        }
+    }
+
+    /// The deformation after a relative displacement `xi` from `s0`.
+    #[inline(always)]
+    fn at(&self, xi: f64) -> f64 {
+        let Branch {
+            s0,
+            sigma,
+            len,
+            inv_len,
+            ..
+        } = *self;
+        match self.plastic {
+            Some((shape, start)) => {
+                // Elastic up to the room left (and against the branch: a trial stage beyond a
+                // reversal, where s and v_r point apart), then plastic.
+                let du = sigma * xi * inv_len - start.room;
+                if du <= 0.0 {
+                    s0 + xi
+                } else {
+                    // z0·exp(−du), exp(−du) within the fast expm1's range.
+                    let z = if du < 39.0 {
+                        start.z0 * (1.0 + expm1(-du))
+                    } else {
+                        0.0
+                    };
+                    sigma * len * shape.plastic(z)
+                }
+            }
+            None => {
+                // Against the branch (a trial stage beyond a reversal) the expression grows
+                // exponentially: bounded, so that the error estimate rejects the step.
+                let e = (-sigma * xi * inv_len).min(50.0);
+                // Below −39, expm1 is −1 to the last bit: no call on a relaxed branch.
+                let em1 = if e < -39.0 { -1.0 } else { expm1(e) };
+                s0 - (sigma * len - s0) * em1
+            }
+        }
+    }
+
+    /// The largest `|ds/dξ|` over a step that ends at `xi_end`, by which the error of `ξ` makes
+    /// that of `s`. Dahl: at the step's start, or its end on a step that went a little against
+    /// `σ`. Dupont: 1 on an elastic part (or against the branch), else the plastic slope at the
+    /// step's start, which falls along the step.
+    fn slope(&self, xi_end: f64) -> f64 {
+        let back = -self.sigma * xi_end * self.inv_len;
+        let p0 = self.sigma * self.s0 * self.inv_len;
+        match self.plastic {
+            Some((_, start)) if start.room > 0.0 || back > 0.0 => 1.0,
+            Some((shape, _)) => shape.slope(p0),
+            None => (1.0 - p0).abs() * if back > 0.0 { libm::exp(back) } else { 1.0 },
+        }
+    }
+
+    /// Dupont: the elastic room left before the breakaway, where there is some.
+    fn room(&self) -> Option<f64> {
+        self.plastic
+            .map(|(_, start)| start.room)
+            .filter(|&r| r > 0.0)
     }
 }
 
