@@ -376,6 +376,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     fsal = None;
                 }
             }
+            // The plain controller. Gustafsson's proportional-integral one (DOPRI5's, with the
+            // last accepted error to the power β) was measured on VibratingContactLuGre at
+            // `k_t` = 1e8, tolerance 1e-6: it cut the rejections per period from 10.1 to 6.2
+            // (β = 0.04) and 3.9 (0.08) but took more steps (41 to 46 and 57), more attempts in
+            // all and more time; β = 0.02 likewise (44 steps, 8.9 rejections). After a step
+            // clipped to the target or a sign change, keeping the step size proposed before it
+            // (instead of the larger of it and the clipped step's) also cost more (42.6 steps).
             let mut h_new = hh * factor(err);
             if rejected {
                 h_new = h_new.min(hh);
