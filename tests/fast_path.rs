@@ -395,3 +395,30 @@ fn a_stuck_dupont_body_rings_in_closed_form() {
         }
     }
 }
+
+/// The planar explicit path's work at tight tolerances on a stiff contact: plain steps, whose
+/// error in the relaxing deformation grows as the fifth power of the relaxation per step, must
+/// hand over to the exponential step before the error control holds them below it
+/// (PaperTransverse at `k_t` = 1e11, 10 ms: about 14,000 steps at tolerance 1e-11 and 24,000
+/// at 1e-12; with a fixed threshold, 600,000 and 940,000).
+#[test]
+fn tight_tolerances_keep_the_planar_path_s_steps_bounded() {
+    let mut scene = scene("paper-transverse.toml");
+    scene.start.k_t = 1e11;
+    for tol in [1e-10, 1e-11, 1e-12] {
+        let mut sim = Setup::new(scene.config, scene.start)
+            .inputs(scene.inputs)
+            .tolerance(tol)
+            .build()
+            .unwrap();
+        assert_eq!(sim.integrator(), Integrator::ExplicitPlanar);
+        for k in 1..=100 {
+            sim.step_to(k as f64 * 1e-4).unwrap();
+        }
+        let steps = sim.stats().steps + sim.stats().rejected;
+        assert!(
+            steps < 50_000,
+            "tol {tol:e}: {steps} attempted steps in 10 ms"
+        );
+    }
+}

@@ -14,8 +14,8 @@
 //!
 //! The deformation obeys `ds/dλ = q − s` in `λ`, with the target `q = s_ss·v_r/|v_r|`: it
 //! relaxes at the rate `|v_r|/s_ss` in time, which at a stiff contact is far beyond any step
-//! the body's motion asks for. Where a step spans a relaxation of [`EXPONENTIAL_FROM`] or more,
-//! `s` is advanced exactly for `q` interpolated in `λ` (a polynomial through six points):
+//! the body's motion asks for. Where a step spans a relaxation of [`EXPONENTIAL_FROM`] or more
+//! (less at tight tolerances: [`EXPONENTIAL_REACH`]), `s` is advanced exactly for `q` interpolated in `λ` (a polynomial through six points):
 //! `s = P(λ) + (s0 − P(0))·exp(−λ)`, `P` the polynomial particular solution, of the same cost
 //! at any `k_t`. The stages of the explicit method know the body's velocity to low order only,
 //! so the step is taken twice: the first pass interpolates `q` through the stages so far, the
@@ -53,6 +53,14 @@ const M: usize = 9;
 /// period at tolerance 1e-6 with a threshold of 0.5 and 36 µs with 1, its `F_Fx` error against
 /// Radau at 1e-12 9.98e-7 and 8.80e-7 of `F_C` (1e-8: 108 and 75 µs, 3.36e-9 both).
 const EXPONENTIAL_FROM: f64 = 1.0;
+
+/// At tight tolerances the threshold falls as `EXPONENTIAL_REACH·rtol^(1/5)`: a plain step's
+/// error in a relaxing component grows as the fifth power of its relaxation, so the error
+/// control holds plain steps below about 80–125 times `rtol^(1/5)` (PaperTransverse at
+/// `k_t` = 1e11: a threshold of 0.5 was out of their reach at tolerance 1e-11, one of 1 at
+/// 1e-10, and the steps shrank to 2.6e-8 s, two million per 50 ms); a third of that keeps the
+/// exponential step within reach. At tolerance 1e-6 the threshold is still 1.
+const EXPONENTIAL_REACH: f64 = 25.0;
 
 /// The error control's tolerance as a fraction of the user's, on the largest scaled error of
 /// the state's components: the global errors of `F_Fx` and `F_Fy` are then at or below
@@ -113,6 +121,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     pub(super) fn advance_planar(&mut self, t_target: f64, h_max: f64) -> Result<Quad, SimError> {
         let tol = self.radau.tolerance();
         let rtol = (TOL_FRACTION * tol).max(1e-14);
+        let exponential_from = EXPONENTIAL_FROM.min(EXPONENTIAL_REACH * libm::pow(rtol, 0.2));
         let dynamics = self.dynamics;
         let scale = self.scale;
         let sys = System::new(
@@ -204,7 +213,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let mut err: f64 = 0.0;
             // `v_r` at the stages of the step taken (of its last pass).
             let mut vr_at = [V::default(); 7];
-            let exponential = k1[N + 2] * hh >= EXPONENTIAL_FROM;
+            let exponential = k1[N + 2] * hh >= exponential_from;
             let (step, mut u1) = if exponential {
                 // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
                 // the target `q = s_ss·v_r/|v_r|` interpolated in λ through the stages so far

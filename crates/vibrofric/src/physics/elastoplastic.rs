@@ -61,7 +61,7 @@ pub struct BranchStart {
 
 impl ElastoPlastic {
     /// The shape for the breakaway ratio `r_ba` in `[0, 1)`, or `None` where its series do
-    /// not converge within [`MAX_TERMS`].
+    /// not converge within 256 terms.
     pub fn new(r_ba: f64) -> Option<Self> {
         if !(0.0..1.0).contains(&r_ba) {
             return None;
