@@ -27,7 +27,7 @@ use super::simulator::SimError;
 use crate::physics::{
     trig, BranchStart, ElastoPlastic, FrictionLaw, InputTrack, Relaxation, Vector,
 };
-use crate::solver::dopri::{factor, DoPriStep, C};
+use crate::solver::dopri::{factor, first_step, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError};
 use crate::table::{Drive, InputId};
 use std::sync::Arc;
@@ -222,11 +222,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 let d =
                     ((k1[0] / nom_s).powi(2) + (k1[1] / nom_x).powi(2) + (k1[2] / nom_v).powi(2))
                         .sqrt();
-                h = if d > 0.0 {
-                    1e-2 / d * libm::pow(tol, 0.2)
-                } else {
-                    h_max
-                };
+                h = first_step(d, tol, h_max);
             }
             let mut hh = h.min(h_max);
             if event_target.is_none() {

@@ -36,7 +36,7 @@ use super::drive::DriveKind;
 use super::dynamics::{Eval, System};
 use super::simulator::SimError;
 use crate::physics::{FrictionLaw, Vector, VelocityTerms};
-use crate::solver::dopri::{factor, Dense, DoPriStep, C};
+use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError};
 
 /// Width of the integrated vector: the largest state (6), the two integrals and the relaxation
@@ -193,11 +193,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     .map(|i| (k1[i] / scale[i]).powi(2))
                     .sum::<f64>()
                     .sqrt();
-                h = if d > 0.0 {
-                    1e-2 / d * libm::pow(tol, 0.2)
-                } else {
-                    h_max
-                };
+                h = first_step(d, tol, h_max);
             }
             let mut hh = h.min(h_max);
             let mut last = false;

@@ -169,6 +169,17 @@ impl<const M: usize> Dense<M> {
     }
 }
 
+/// The first step from the scaled norm `d` of the state's rates at the start (each rate over
+/// its component's nominal magnitude): a hundredth of the time the state takes to move by its
+/// nominal magnitudes, times `tol^(1/5)`; `h_max` where nothing moves.
+pub fn first_step(d: f64, tol: f64, h_max: f64) -> f64 {
+    if d > 0.0 {
+        1e-2 / d * libm::pow(tol, 0.2)
+    } else {
+        h_max
+    }
+}
+
 /// The step-size factor after an attempt with scaled error `err` (accept when ≤ 1): the
 /// fifth root with a safety factor, bounded to [0.2, 10] (DOPRI5's bounds).
 pub fn factor(err: f64) -> f64 {
