@@ -208,28 +208,7 @@ fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
     for mut scene in explicit {
         for k_t in [1e8, 1e11] {
             scene.start.k_t = k_t;
-            let Nominal {
-                f_c,
-                s_ss,
-                v_nom,
-                x_nom,
-            } = Nominal::of(&scene);
-            let (fast, path) = run(&scene, Integrator::ClosedForm, 1e-10, false);
-            assert_eq!(path, Integrator::Explicit);
-            let (radau, _) = run(&scene, Integrator::Radau, 1e-12, false);
-            let name = &scene.model_identifier;
-            for (k, (a, b)) in fast.iter().zip(&radau).enumerate() {
-                let what = format!("{name} k_t {k_t:e} at {} ms", k + 1);
-                for (q, x, y, bound) in [
-                    ("F_Fx", a.f_fx, b.f_fx, 1e-9 * f_c),
-                    ("F_mean", a.f_mean, b.f_mean, 1e-9 * f_c),
-                    ("F_Fx_step", a.f_fx_step, b.f_fx_step, 1e-9 * f_c),
-                    ("s_x", a.s_x, b.s_x, 1e-9 * s_ss),
-                    ("x", a.x, b.x, 1e-9 * (x_nom + b.x.abs())),
-                    ("v_x", a.v_x, b.v_x, 1e-9 * (v_nom + b.v_x.abs())),
-                ] {
-                    assert!((x - y).abs() <= bound, "{what}: {q} {x} vs {y}");
-                }
+            for (what, a) in agrees_with_radau_at_1e_12(&scene, Integrator::Explicit) {
                 assert_eq!((a.f_fy, a.s_y, a.v_y), (0.0, 0.0, 0.0), "{what}: lateral");
             }
         }
@@ -258,36 +237,47 @@ fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
         }
         for k_t in [1e8, stiff] {
             scene.start.k_t = k_t;
-            let Nominal {
-                f_c,
-                s_ss,
-                v_nom,
-                x_nom,
-            } = Nominal::of(&scene);
-            let (fast, path) = run(&scene, Integrator::ClosedForm, 1e-10, false);
-            assert_eq!(path, Integrator::ExplicitPlanar);
-            let (radau, _) = run(&scene, Integrator::Radau, 1e-12, false);
-            let name = &scene.model_identifier;
-            for (k, (a, b)) in fast.iter().zip(&radau).enumerate() {
-                let what = format!("{name} k_t {k_t:e} at {} ms", k + 1);
-                for (q, x, y, bound) in [
-                    ("F_Fx", a.f_fx, b.f_fx, 1e-9 * f_c),
-                    ("F_Fy", a.f_fy, b.f_fy, 1e-9 * f_c),
-                    ("F_mean", a.f_mean, b.f_mean, 1e-9 * f_c),
-                    ("F_Fx_step", a.f_fx_step, b.f_fx_step, 1e-9 * f_c),
-                    ("F_Fy_step", a.f_fy_step, b.f_fy_step, 1e-9 * f_c),
-                    ("s_x", a.s_x, b.s_x, 1e-9 * s_ss),
-                    ("s_y", a.s_y, b.s_y, 1e-9 * s_ss),
-                    ("x", a.x, b.x, 1e-9 * (x_nom + b.x.abs())),
-                    ("y", a.y, b.y, 1e-9 * (x_nom + b.y.abs())),
-                    ("v_x", a.v_x, b.v_x, 1e-9 * (v_nom + b.v_x.abs())),
-                    ("v_y", a.v_y, b.v_y, 1e-9 * (v_nom + b.v_y.abs())),
-                ] {
-                    assert!((x - y).abs() <= bound, "{what}: {q} {x} vs {y}");
-                }
-            }
+            agrees_with_radau_at_1e_12(&scene, Integrator::ExplicitPlanar);
         }
     }
+}
+
+/// `scene` on its path (which must be `path`) at tolerance 1e-10 against Radau at 1e-12: both
+/// friction components, their window and step means, the deformation and the body's position
+/// and velocity in x and y within 1e-9 of their scales. The outputs of the path's run, each
+/// with its label.
+fn agrees_with_radau_at_1e_12(scene: &Scene, path: Integrator) -> Vec<(String, Outputs)> {
+    let Nominal {
+        f_c,
+        s_ss,
+        v_nom,
+        x_nom,
+    } = Nominal::of(scene);
+    let (fast, taken) = run(scene, Integrator::ClosedForm, 1e-10, false);
+    assert_eq!(taken, path);
+    let (radau, _) = run(scene, Integrator::Radau, 1e-12, false);
+    let (name, k_t) = (&scene.model_identifier, scene.start.k_t);
+    let mut out = vec![];
+    for (k, (a, b)) in fast.iter().zip(&radau).enumerate() {
+        let what = format!("{name} k_t {k_t:e} at {} ms", k + 1);
+        for (q, x, y, bound) in [
+            ("F_Fx", a.f_fx, b.f_fx, 1e-9 * f_c),
+            ("F_Fy", a.f_fy, b.f_fy, 1e-9 * f_c),
+            ("F_mean", a.f_mean, b.f_mean, 1e-9 * f_c),
+            ("F_Fx_step", a.f_fx_step, b.f_fx_step, 1e-9 * f_c),
+            ("F_Fy_step", a.f_fy_step, b.f_fy_step, 1e-9 * f_c),
+            ("s_x", a.s_x, b.s_x, 1e-9 * s_ss),
+            ("s_y", a.s_y, b.s_y, 1e-9 * s_ss),
+            ("x", a.x, b.x, 1e-9 * (x_nom + b.x.abs())),
+            ("y", a.y, b.y, 1e-9 * (x_nom + b.y.abs())),
+            ("v_x", a.v_x, b.v_x, 1e-9 * (v_nom + b.v_x.abs())),
+            ("v_y", a.v_y, b.v_y, 1e-9 * (v_nom + b.v_y.abs())),
+        ] {
+            assert!((x - y).abs() <= bound, "{what}: {q} {x} vs {y}");
+        }
+        out.push((what, *a));
+    }
+    out
 }
 
 /// One step over many periods of 2 kHz vibration with the inputs held costs O(1) and equals
