@@ -59,8 +59,8 @@ const RELAX_FIRST: f64 = 0.4;
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
     /// True when this contact takes the explicit path: a force or spring drive, Dahl with
-    /// `kappa = 1` at a constant load, and (planar scenes) the motion on x: no lateral
-    /// deformation, velocity or support motion now.
+    /// `kappa = 1` at a constant load, and (planar scenes) the motion on x
+    /// ([`Contact::on_x_axis`]).
     pub(super) fn explicit_path(&self) -> bool {
         if self.radau_only
             || self.dynamics.load.is_some()
@@ -69,6 +69,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         {
             return false;
         }
+        self.on_x_axis()
+    }
+
+    /// True when the motion of a force- or spring-driven body (state `[s, x, v]`, each of
+    /// `V::DIM` components) stays on the x axis: a longitudinal contact, or a planar one with
+    /// no lateral deformation, velocity or support motion now (nothing then pushes the body off
+    /// the axis).
+    pub(super) fn on_x_axis(&self) -> bool {
         if V::DIM == 1 {
             return true;
         }

@@ -5,6 +5,12 @@
 //! `q = g·v_r/|v_r|`, its length `g(v_r)` depending on the relative velocity where Dahl's
 //! `s_ss` is constant: `λ = ∫|v_r|/g dt` and `q` take that `g`, and the force (with its
 //! damping `h_t·ds/dt`) follows from the deformation at each stage as in the general model.
+//! A force- or spring-driven body whose motion stays on the x axis (no lateral deformation,
+//! velocity or support motion: LuGre, since Dahl there takes `explicit.rs`) is integrated in
+//! one dimension, `[s, x, v]` with `∫F_Fx dt` and λ, by the same code ([`steps`], generic in
+//! the vector type and the widths); its lateral components stay 0 as the planar equations keep
+//! them (the results were those of the planar integration to the last bit on
+//! VibratingContactLuGre, 0.1 s at tolerances 1e-6 and 1e-8).
 //! On the x axis `|v_r|` has a kink at each sign change of `v_rx`, across which a step's error
 //! estimate is not to be trusted: such a step is retaken to end just past the sign change, and a
 //! step rejected across one is retried to end there. The body, the integrals
@@ -31,17 +37,21 @@
 //! rest.
 
 use super::contact::Contact;
-use super::drive::DriveInputs;
-use super::drive::DriveKind;
-use super::dynamics::{Eval, System};
+use super::drive::{Axial, DriveInputs, DriveKind};
+use super::dynamics::{Dynamics, Eval, System};
 use super::simulator::SimError;
 use crate::physics::{FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
-use crate::solver::{OdeSystem, Quad, SolverError};
+use crate::solver::{OdeSystem, Quad, SolverError, SolverStats};
 
-/// Width of the integrated vector: the largest state (6), the two integrals and the relaxation
-/// arc length `λ = ∫|v_r|/s_ss dt` over the step.
-const M: usize = 9;
+/// The largest width of the integrated vector: the state (6 in planar motion), the integrals
+/// of the friction force's `V::DIM` components and the relaxation arc length
+/// `λ = ∫|v_r|/s_ss dt` over the step. A motion on the x axis is integrated in one dimension
+/// (`[s, x, v]`, `∫F_Fx dt`, λ: 5).
+const M_PLANAR: usize = 9;
+
+/// The same on the x axis.
+const M_AXIAL: usize = 5;
 
 /// The relaxation over a step (`|v_r|·h/s_ss` at its start) from which the deformation is
 /// advanced exponentially in `λ` instead of as one more component of the explicit method. Below
@@ -117,20 +127,113 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         rate * self.window.len <= STIFF_LIMIT
     }
 
-    /// Advances the planar explicit path to `t_target`: `∫F_F dt` over the call.
+    /// Advances the planar explicit path to `t_target`: `∫F_F dt` over the call. A force- or
+    /// spring-driven body whose motion stays on the x axis ([`Contact::on_x_axis`]: LuGre,
+    /// since Dahl there takes `explicit.rs`) is integrated in one dimension, its lateral
+    /// deformation, position and velocity left at 0 (nothing moves them): the same steps on
+    /// a vector of 5 components instead of 9, about a quarter less time per step.
     pub(super) fn advance_planar(&mut self, t_target: f64, h_max: f64) -> Result<Quad, SimError> {
-        let tol = self.radau.tolerance();
-        let rtol = (TOL_FRACTION * tol).max(1e-14);
-        let exponential_from = EXPONENTIAL_FROM.min(EXPONENTIAL_REACH * libm::pow(rtol, 0.2));
-        let dynamics = self.dynamics;
-        let scale = self.scale;
-        let sys = System::new(
-            &dynamics,
+        let mut run = Run {
+            tol: self.radau.tolerance(),
+            t_target,
+            h_max,
+            h: self.exp_h,
+            limit: self.radau.step_limit,
+            stats: self.radau.stats,
+        };
+        let t = self.radau.t;
+        let mut y = self.radau.y;
+        let axial = match self.dynamics.drive.axial() {
+            Some(drive) if V::DIM == 2 && self.on_x_axis() => Some(drive),
+            _ => None,
+        };
+        let integral = match axial {
+            Some(drive) => {
+                // `[s_x, s_y, x, y, v_x, v_y]` on `[s, x, v]`.
+                let y = y.as_mut_slice();
+                let mut y1 = [y[0], y[2], y[4]];
+                let scale = [self.scale[0], self.scale[2], self.scale[4]];
+                let ix = match drive {
+                    Axial::Force(d) => {
+                        let dynamics = self.dynamics.with_drive::<f64, _>(d);
+                        let sys = self.system_on(&dynamics, &scale);
+                        steps::<f64, L, _, 3, M_AXIAL>(&sys, &mut run, t, &mut y1)
+                    }
+                    Axial::Spring(d) => {
+                        let dynamics = self.dynamics.with_drive::<f64, _>(d);
+                        let sys = self.system_on(&dynamics, &scale);
+                        steps::<f64, L, _, 3, M_AXIAL>(&sys, &mut run, t, &mut y1)
+                    }
+                };
+                [y[0], y[2], y[4]] = y1;
+                ix.map(|ix| [ix[0], 0.0])
+            }
+            None => {
+                let dynamics = self.dynamics;
+                let sys = self.system_on(&dynamics, &self.scale);
+                steps::<V, L, D, N, M_PLANAR>(&sys, &mut run, t, y.as_mut_slice())
+            }
+        };
+        self.radau.stats = run.stats;
+        let integral = integral?;
+        OdeSystem::<N>::project(&self.system(), t_target, &mut y);
+        self.radau.y = y;
+        self.radau.t = t_target;
+        self.radau.restart();
+        self.exp_h = run.h;
+        Ok(integral)
+    }
+
+    /// The right-hand side of this contact's dynamics, or of `dynamics` in place of them.
+    fn system_on<'a, W: Vector, E: DriveKind<W>>(
+        &self,
+        dynamics: &'a Dynamics<W, L, E>,
+        scale: &'a [f64],
+    ) -> System<'a, W, L, E> {
+        System::new(
+            dynamics,
             self.config.input_support,
-            &scale,
+            scale,
             self.force_scale,
             self.switch_scale,
-        );
+        )
+    }
+}
+
+/// What one call of the path works to and with: the tolerance, the target, the largest step,
+/// the proposed step (updated), the work limit and the counts (updated).
+struct Run {
+    tol: f64,
+    t_target: f64,
+    h_max: f64,
+    h: f64,
+    limit: u64,
+    stats: SolverStats,
+}
+
+/// The path's steps from `(t, y)` to `run.t_target` on the system `sys` of state width `N`
+/// (`y` updated), integrating `M = N + V::DIM + 1` components: `∫F_F dt` over the call.
+fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: usize>(
+    sys: &System<'_, V, L, D>,
+    run: &mut Run,
+    t: f64,
+    y: &mut [f64],
+) -> Result<Quad, SimError> {
+    debug_assert_eq!(M, N + V::DIM + 1);
+    let Run {
+        tol,
+        t_target,
+        h_max,
+        limit,
+        ..
+    } = *run;
+    // λ's component.
+    let il = M - 1;
+    {
+        let rtol = (TOL_FRACTION * tol).max(1e-14);
+        let exponential_from = EXPONENTIAL_FROM.min(EXPONENTIAL_REACH * libm::pow(rtol, 0.2));
+        let dynamics = sys.dynamics;
+        let scale = sys.scale;
         let bound = dynamics.law.bound();
         let relax = Relax::new(dynamics.law);
         // The right-hand side at `(tt, u)` with the deformation `s` (the state's own, or an
@@ -150,24 +253,25 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let mut out = [0.0; M];
             out[..N].copy_from_slice(r.as_slice());
             out[N] = f.x();
-            out[N + 1] = f.y();
-            out[N + 2] = kin.terms.decay;
+            if V::DIM == 2 {
+                out[N + 1] = f.y();
+            }
+            out[il] = kin.terms.decay;
             out
         };
-        let kin = |tt: f64, u: &[f64; M]| Kin::at(&sys, &relax, tt, &u[..N]);
+        let kin = |tt: f64, u: &[f64; M]| Kin::at(sys, &relax, tt, &u[..N]);
         let rhs = |tt: f64, u: &[f64; M]| rhs_with(u, V::read(&u[..V::DIM]), &kin(tt, u));
-        let mut t = self.radau.t;
+        let mut t = t;
         let mut u = [0.0; M];
-        u[..N].copy_from_slice(self.radau.y.as_slice());
+        u[..N].copy_from_slice(y);
         let mut integral = [0.0; 2];
-        let mut h = self.exp_h;
+        let mut h = run.h;
         let mut fsal: Option<[f64; M]> = None;
         let mut rejected = false;
         // The end of a step retaken to end just past a sign change of `v_rx` on the x axis.
         // With whether it was located on an accepted step's extension.
         let mut cut: Option<(f64, bool)> = None;
-        let limit = self.radau.step_limit;
-        let stats = &mut self.radau.stats;
+        let stats = &mut run.stats;
         while t < t_target {
             if stats.steps + stats.rejected >= limit {
                 return Err(SimError::Solver(SolverError::WorkLimit {
@@ -175,9 +279,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     limit: limit as f64,
                 }));
             }
-            u[N] = 0.0;
-            u[N + 1] = 0.0;
-            u[N + 2] = 0.0;
+            u[N..].fill(0.0);
             let k1 = match fsal {
                 Some(k) => k,
                 None => {
@@ -209,7 +311,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let mut err: f64 = 0.0;
             // `v_r` at the stages of the step taken (of its last pass).
             let mut vr_at = [V::default(); 7];
-            let exponential = k1[N + 2] * hh >= exponential_from;
+            let exponential = k1[il] * hh >= exponential_from;
             let (step, mut u1) = if exponential {
                 // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
                 // the target `q = s_ss·v_r/|v_r|` interpolated in λ through the stages so far
@@ -221,7 +323,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
                         let i = hist.n;
                         hist.n += 1;
-                        hist.lam[i] = y[N + 2];
+                        hist.lam[i] = y[il];
                         let k = kin(tt, y);
                         hist.q[i] = k.target();
                         vr_at[i] = k.vr;
@@ -241,7 +343,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 // at each stage from the first pass's continuous extension (q at six
                 // equidistant points, the ends exact, λ from the same extension).
                 let dense = step.dense_all(hh);
-                let mut first = Self::nodes(&step, &dense, hist.s0, hist.q[0], |theta, z| {
+                let mut first = nodes::<V, N, M>(&step, &dense, hist.s0, hist.q[0], |theta, z| {
                     kin(t + theta * hh, z).target()
                 });
                 first.bad |= hist.bad;
@@ -251,7 +353,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     Some(fit) => {
                         let (mut i, mut stage2) = (1, [0.0; 7]);
                         for (k, c) in C.iter().enumerate() {
-                            stage2[k] = dense.at(N + 2, *c) / big;
+                            stage2[k] = dense.at(il, *c) / big;
                         }
                         let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
                             let s_i = fit.at(stage2[i]);
@@ -267,7 +369,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 };
                 let mut u1 = step.end();
                 let dense = step.dense_all(hh);
-                let mut fine = Self::nodes(&step, &dense, hist.s0, hist.q[0], |theta, z| {
+                let mut fine = nodes::<V, N, M>(&step, &dense, hist.s0, hist.q[0], |theta, z| {
                     kin(t + theta * hh, z).target()
                 });
                 fine.bad |= first.bad;
@@ -280,7 +382,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     err = err.max((s5[c] - s4[c]).abs() / w);
                 }
                 // λ places the interpolation's nodes: its error relative to the step's λ.
-                err = err.max(step.err[N + 2].abs() / (rtol * u1[N + 2].max(1.0)));
+                err = err.max(step.err[il].abs() / (rtol * u1[il].max(1.0)));
                 if bad {
                     err = f64::INFINITY;
                 }
@@ -316,7 +418,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             // step that ends on a sign change located on a rejected step's extension is checked
             // again.
             let crossing = if cut.is_none_or(|(_, trusted)| !trusted) {
-                let vr0 = Self::relative_velocity(&sys, t, &u);
+                let vr0 = relative_velocity::<V, L, D, N, M>(sys, t, &u);
                 let sigma = vr0.x().signum();
                 let vr_i = |i: usize| if i == 0 { vr0 } else { vr_at[i] };
                 let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
@@ -330,7 +432,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                             for (j, zj) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
                                 *zj = dense.at(j, theta);
                             }
-                            sigma * Self::relative_velocity(&sys, t + theta * hh, &z).x()
+                            sigma * relative_velocity::<V, L, D, N, M>(sys, t + theta * hh, &z).x()
                         };
                         let (ga, gb) = (g(i - 1).max(0.0), g(i));
                         // Just past the sign change: within 1e-9 of the bracket's swing.
@@ -365,9 +467,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 continue;
             }
             stats.steps += 1;
-            u1[N + 2] = 0.0;
+            u1[il] = 0.0;
             integral[0] += u1[N];
-            integral[1] += u1[N + 1];
+            if V::DIM == 2 {
+                integral[1] += u1[N + 1];
+            }
             u = u1;
             // After an exponential step the end's deformation is not the last stage's.
             fsal = (!exponential).then_some(step.k[6]);
@@ -400,50 +504,47 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             cut = None;
             h = h_new;
         }
-        let mut y = self.radau.y;
-        y.as_mut_slice().copy_from_slice(&u[..N]);
-        OdeSystem::<N>::project(&self.system(), t_target, &mut y);
-        self.radau.y = y;
-        self.radau.t = t_target;
-        self.radau.restart();
-        self.exp_h = h;
+        y.copy_from_slice(&u[..N]);
+        run.h = h;
         Ok(integral)
     }
 }
 
-impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
-    /// λ and `q` at six equidistant points of a step from its continuous extension `dense`
-    /// (the start's `q` given, the end's from the end state; `target(theta, z)` is `q` at
-    /// `t + theta·h` and the state `z`).
-    fn nodes(
-        step: &DoPriStep<M>,
-        dense: &Dense<M>,
-        s0: [f64; 2],
-        q0: [f64; 2],
-        target: impl Fn(f64, &[f64; M]) -> [f64; 2],
-    ) -> Stages {
-        let mut fine = Stages::new(s0, q0, 0);
-        let end = step.end();
-        fine.lam[5] = end[N + 2];
-        fine.q[5] = target(1.0, &end);
-        for k in 1..5 {
-            let theta = k as f64 * 0.2;
-            let mut z = end;
-            for (i, zi) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
-                *zi = dense.at(i, theta);
-            }
-            fine.lam[k] = dense.at(N + 2, theta);
-            fine.q[k] = target(theta, &z);
+/// λ and `q` at six equidistant points of a step from its continuous extension `dense`
+/// (the start's `q` given, the end's from the end state; `target(theta, z)` is `q` at
+/// `t + theta·h` and the state `z`).
+fn nodes<V: Vector, const N: usize, const M: usize>(
+    step: &DoPriStep<M>,
+    dense: &Dense<M>,
+    s0: [f64; 2],
+    q0: [f64; 2],
+    target: impl Fn(f64, &[f64; M]) -> [f64; 2],
+) -> Stages {
+    let mut fine = Stages::new(s0, q0, 0);
+    let end = step.end();
+    fine.lam[5] = end[M - 1];
+    fine.q[5] = target(1.0, &end);
+    for k in 1..5 {
+        let theta = k as f64 * 0.2;
+        let mut z = end;
+        for (i, zi) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
+            *zi = dense.at(i, theta);
         }
-        fine
+        fine.lam[k] = dense.at(M - 1, theta);
+        fine.q[k] = target(theta, &z);
     }
+    fine
+}
 
-    /// `v_r` at `(t, u)`.
-    #[inline(always)]
-    fn relative_velocity(sys: &System<'_, V, L, D>, t: f64, u: &[f64; M]) -> V {
-        let d = sys.dynamics.drive_inputs(t);
-        sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - sys.support(t)
-    }
+/// `v_r` at `(t, u)`.
+#[inline(always)]
+fn relative_velocity<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: usize>(
+    sys: &System<'_, V, L, D>,
+    t: f64,
+    u: &[f64; M],
+) -> V {
+    let d = sys.dynamics.drive_inputs(t);
+    sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - sys.support(t)
 }
 
 /// What the right-hand side needs at one time and state besides the deformation: the drive's
