@@ -558,10 +558,11 @@ pub(super) fn root(
     b
 }
 
-/// The support velocity along x at the stage times of the explicit path's steps: the harmonic
-/// source's phase carried from step to step by rotations (two sines and cosines per step rather
+/// The support velocity along x at the stage times of the explicit paths' steps (this one's,
+/// and the planar path's in one dimension): the harmonic source's phase carried from step to
+/// step by rotations (two sines and cosines per step rather
 /// than a cosine at each of its six stages), the input track at each time.
-struct StageSupport {
+pub(super) struct StageSupport {
     /// The source's velocity amplitude along x (0 without a source).
     amp: f64,
     /// Its angular frequency.
@@ -579,7 +580,7 @@ fn rot(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 }
 
 impl StageSupport {
-    fn new<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
+    pub(super) fn new<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
         dynamics: &Dynamics<V, L, D>,
         input_support: bool,
         t: f64,
@@ -613,7 +614,7 @@ impl StageSupport {
     /// The support velocity at the stage times `t + C[i]·h` of a step from `t`, and the
     /// rotation over the whole step (for [`StageSupport::turn`] once it is accepted).
     #[inline(always)]
-    fn stages(&self, t: f64, h: f64) -> ([f64; 7], (f64, f64)) {
+    pub(super) fn stages(&self, t: f64, h: f64) -> ([f64; 7], (f64, f64)) {
         let mut w = [0.0; 7];
         let mut whole = (1.0, 0.0);
         if self.amp != 0.0 {
@@ -650,7 +651,7 @@ impl StageSupport {
 
     /// Moves the phase on over an accepted step.
     #[inline(always)]
-    fn turn(&mut self, whole: (f64, f64)) {
+    pub(super) fn turn(&mut self, whole: (f64, f64)) {
         self.phase = rot(self.phase, whole);
     }
 }

@@ -39,6 +39,7 @@
 use super::contact::Contact;
 use super::drive::{Axial, DriveInputs, DriveKind};
 use super::dynamics::{Dynamics, Eval, System};
+use super::explicit::StageSupport;
 use super::simulator::SimError;
 use crate::physics::{FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
@@ -280,6 +281,10 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         // With whether it was located on an accepted step's extension.
         let mut cut: Option<(f64, bool)> = None;
         let stats = &mut run.stats;
+        // In one dimension the support velocity at the stage times by rotations of the harmonic
+        // phase, as on the 1-D path: two sines and cosines per attempt rather than a cosine at
+        // each of its six stages.
+        let mut support = (V::DIM == 1).then(|| StageSupport::new(dynamics, sys.input_support, t));
         while t < t_target {
             if stats.steps + stats.rejected >= limit {
                 return Err(SimError::Solver(SolverError::WorkLimit {
@@ -316,6 +321,12 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
                 return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
             }
+            let stage_support = support.as_ref().map(|s| s.stages(t, hh));
+            // What the right-hand side needs at stage `i` of the step, time `tt`.
+            let kin_stage = |i: usize, tt: f64, y: &[f64; M]| match &stage_support {
+                Some((w, _)) => Kin::with_support(sys, &relax, tt, &y[..N], V::from_xy(w[i], 0.0)),
+                None => kin(tt, y),
+            };
             let mut err: f64 = 0.0;
             // `v_r` at the stages of the step taken (of its last pass).
             let mut vr_at = [V::default(); 7];
@@ -332,7 +343,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
                         let i = hist.n;
                         hist.n += 1;
                         hist.lam[i] = y[il];
-                        let k = kin(tt, y);
+                        let k = kin_stage(i, tt, y);
                         hist.q[i] = k.target();
                         vr_at[i] = k.vr;
                         let s_i = match i {
@@ -366,7 +377,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
                         let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
                             let s_i = fit.at(stage2[i]);
                             i += 1;
-                            let k = kin(tt, y);
+                            let k = kin_stage(i - 1, tt, y);
                             vr_at[i - 1] = k.vr;
                             rhs_with(y, V::read(&s_i[..V::DIM]), &k)
                         };
@@ -397,7 +408,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
                 (step, u1)
             } else {
                 let mut stage = |i: usize, tt: f64, y: &[f64; M]| -> [f64; M] {
-                    let k = kin(tt, y);
+                    let k = kin_stage(i, tt, y);
                     vr_at[i] = k.vr;
                     rhs_with(y, V::read(&y[..V::DIM]), &k)
                 };
@@ -498,6 +509,9 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
                 integral[1] += u1[N + 1];
             }
             u = u1;
+            if let (Some(s), Some((_, turn))) = (support.as_mut(), stage_support) {
+                s.turn(turn);
+            }
             // After an exponential step the end's deformation is not the last stage's.
             fsal = (!exponential).then_some(step.k[6]);
             t = if last { t_target } else { t + hh };
@@ -590,9 +604,21 @@ impl<V: Vector> Kin<V> {
         t: f64,
         y: &[f64],
     ) -> Self {
+        Self::with_support(sys, relax, t, y, sys.support(t))
+    }
+
+    /// As [`Kin::at`], with the support velocity `vs` at `t` given.
+    #[inline(always)]
+    fn with_support<L: FrictionLaw, D: DriveKind<V>>(
+        sys: &System<'_, V, L, D>,
+        relax: &Relax<L>,
+        t: f64,
+        y: &[f64],
+        vs: V,
+    ) -> Self {
         let drive = sys.dynamics.drive_inputs(t);
         let v = sys.dynamics.drive.velocity(&y[V::DIM..], &drive);
-        let vr = v - sys.support(t);
+        let vr = v - vs;
         Kin {
             drive,
             v,
