@@ -327,6 +327,14 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
                 Some((w, _)) => Kin::with_support(sys, &relax, tt, &y[..N], V::from_xy(w[i], 0.0)),
                 None => kin(tt, y),
             };
+            // `v_r` at the step's start.
+            let vr_start = || match &stage_support {
+                Some((w, _)) => {
+                    let d = sys.dynamics.drive_inputs(t);
+                    sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - V::from_xy(w[0], 0.0)
+                }
+                None => relative_velocity::<V, L, D, N, M>(sys, t, &u),
+            };
             let mut err: f64 = 0.0;
             // `v_r` at the stages of the step taken (of its last pass).
             let mut vr_at = [V::default(); 7];
@@ -437,7 +445,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             // step that ends on a sign change located on a rejected step's extension is checked
             // again.
             let crossing = if cut.is_none_or(|(_, trusted)| !trusted) {
-                let vr0 = relative_velocity::<V, L, D, N, M>(sys, t, &u);
+                let vr0 = vr_start();
                 let sigma = vr0.x().signum();
                 let vr_i = |i: usize| if i == 0 { vr0 } else { vr_at[i] };
                 let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
@@ -492,7 +500,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             // is a sliver of the step ([`BRIDGE`]).
             let bridge = match cut {
                 Some(_) if !last => {
-                    let vr0 = relative_velocity::<V, L, D, N, M>(sys, t, &u).x();
+                    let vr0 = vr_start().x();
                     let vr1 = vr_at[6].x();
                     let dvr = (vr1 - vr_at[4].x()) / ((1.0 - C[4]) * hh);
                     let b = -2.0 * vr1 / dvr;
