@@ -155,7 +155,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             h: self.exp_h,
             limit: self.radau.step_limit,
             stats: self.radau.stats,
-            stiffness_per_mass: self.params.k_t / self.params.m,
+            push: PUSH_MARGIN * self.params.k_t / self.params.m,
         };
         let t = self.radau.t;
         let mut y = self.radau.y;
@@ -225,19 +225,20 @@ struct Run {
     h: f64,
     limit: u64,
     stats: SolverStats,
-    /// `k_t/m`.
-    stiffness_per_mass: f64,
+    /// `k_t/m` with the margin [`PUSH_MARGIN`].
+    push: f64,
 }
 
 /// The path's steps from `(t, y)` to `run.t_target` on the system `sys` of state width `N`
-/// (`y` updated), integrating `M = N + V::DIM + 1` components: `∫F_F dt` over the call.
+/// (`y` updated), integrating `M` components (the state, the `V::DIM` components of `∫F_F dt`,
+/// λ, and zeros to the width: [`M_PLANAR`] for every planar state): `∫F_F dt` over the call.
 fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: usize>(
     sys: &System<'_, V, L, D>,
     run: &mut Run,
     t: f64,
     y: &mut [f64],
 ) -> Result<Quad, SimError> {
-    debug_assert_eq!(M, N + V::DIM + 1);
+    debug_assert!(M > N + V::DIM);
     let Run {
         tol,
         t_target,
@@ -245,8 +246,8 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         limit,
         ..
     } = *run;
-    // λ's component.
-    let il = M - 1;
+    // λ's component (the last but for a planar state shorter than the largest).
+    let il = N + V::DIM;
     {
         let rtol = (TOL_FRACTION * tol).max(1e-14);
         let exponential_from = EXPONENTIAL_FROM.min(EXPONENTIAL_REACH * libm::pow(rtol, 0.2));
@@ -283,8 +284,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         // errors: `(k_t/m)·(s_nom + |s|)/v_nom`, the velocity's nominal the body's last
         // component's; Dahl's contact only (`weigh`).
         let weigh = dynamics.law.relaxation().is_some();
-        let push = PUSH_MARGIN * run.stiffness_per_mass * (scale[0] + dynamics.law.envelope())
-            / scale[N - 1];
+        let push = run.push * (scale[0] + dynamics.law.envelope()) / scale[N - 1];
         let mut t = t;
         let mut u = [0.0; M];
         u[..N].copy_from_slice(y);
@@ -593,7 +593,7 @@ fn nodes<V: Vector, const N: usize, const M: usize>(
 ) -> Stages {
     let mut fine = Stages::new(s0, q0, 0);
     let end = step.end();
-    fine.lam[5] = end[M - 1];
+    fine.lam[5] = end[N + V::DIM];
     fine.q[5] = target(1.0, &end);
     for k in 1..5 {
         let theta = k as f64 * 0.2;
@@ -601,7 +601,7 @@ fn nodes<V: Vector, const N: usize, const M: usize>(
         for (i, zi) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
             *zi = dense.at(i, theta);
         }
-        fine.lam[k] = dense.at(M - 1, theta);
+        fine.lam[k] = dense.at(N + V::DIM, theta);
         fine.q[k] = target(theta, &z);
     }
     fine
