@@ -10,10 +10,12 @@
 //! one dimension, `[s, x, v]` with `∫F_Fx dt` and λ, by the same code ([`steps`], generic in
 //! the vector type and the widths); its lateral components stay 0 as the planar equations keep
 //! them (the results were those of the planar integration to the last bit on
-//! VibratingContactLuGre, 0.1 s at tolerances 1e-6 and 1e-8).
+//! VibratingContactLuGre, 0.1 s at tolerances 1e-6 and 1e-8), and the support velocity at
+//! the stages comes from rotations of the harmonic phase as on the 1-D path.
 //! On the x axis `|v_r|` has a kink at each sign change of `v_rx`, across which a step's error
 //! estimate is not to be trusted: such a step is retaken to end just past the sign change, and a
-//! step rejected across one is retried to end there. The body, the integrals
+//! step rejected across one is retried to end there; one that ends a little short of it is
+//! followed by a bridge across it ([`BRIDGE`]). The body, the integrals
 //! `∫F_Fx dt`, `∫F_Fy dt` and the relaxation arc length `λ = ∫|v_r|/s_ss dt` are integrated by
 //! Dormand–Prince 5(4) with error control on the state; the integrals ride along with the
 //! fifth-order weights and do not steer the step.
