@@ -588,8 +588,8 @@ impl<'a> Branch<'a> {
     }
 }
 
-/// The right-hand side's one elementary function (moved to the physics layer, whose LuGre
-/// law takes it too).
+/// The right-hand side's one elementary function (in the physics layer, beside the `exp` of
+/// the same kernel that LuGre's velocity terms take).
 pub(super) use crate::physics::trig::expm1;
 
 /// A point just past the root of `g` in `(a, b)`, from `g(a) = ga ≥ 0 > g(b) = gb`, by the
