@@ -42,6 +42,19 @@ pub trait DriveKind<V: Vector>: Copy + Send + Sync + std::fmt::Debug + 'static {
     /// from the law's partial derivatives. Rows and columns index the whole state, the
     /// deformation first; every other entry is left as it is (zero).
     fn jacobian(&self, lj: &LawJacobian, jac: &mut Jac);
+    /// The same drive on a body that moves along x only, where it has one with body
+    /// `[x, v_x]` (force and spring drives): the planar explicit path integrates a planar
+    /// motion that stays on the x axis in one dimension.
+    fn axial(&self) -> Option<Axial> {
+        None
+    }
+}
+
+/// A force or spring drive in one dimension (see [`DriveKind::axial`]).
+#[derive(Clone, Copy, Debug)]
+pub enum Axial {
+    Force(Force),
+    Spring(Spring),
 }
 
 /// The Jacobian of the largest state, indexed `[row][column]`.
@@ -175,6 +188,9 @@ impl<V: Vector> DriveKind<V> for Force {
     fn jacobian(&self, lj: &LawJacobian, jac: &mut Jac) {
         body_jacobian::<V>(self.inv_m, lj, jac);
     }
+    fn axial(&self) -> Option<Axial> {
+        Some(Axial::Force(*self))
+    }
 }
 
 /// Spring drive: `F_d = k_d·(x_d − x) + c_d·(v_d − v_x)`, `dx_d/dt = v_d`; body as [`Force`].
@@ -229,5 +245,8 @@ impl<V: Vector> DriveKind<V> for Spring {
         let (x, vx) = (V::DIM, 2 * V::DIM);
         jac[vx][x] -= self.k_d * self.inv_m;
         jac[vx][vx] -= self.c_d * self.inv_m;
+    }
+    fn axial(&self) -> Option<Axial> {
+        Some(Axial::Spring(*self))
     }
 }

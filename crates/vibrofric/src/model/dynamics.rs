@@ -79,6 +79,24 @@ pub(super) struct Eval<V> {
 }
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
+    /// The same law, support motion and inputs with the body moved by `drive` in `W`'s
+    /// dimension (a planar motion that stays on the x axis integrated in one dimension: the
+    /// support's lateral motion is then left out).
+    pub(super) fn with_drive<W: Vector, E: DriveKind<W>>(&self, drive: E) -> Dynamics<W, L, E> {
+        Dynamics {
+            law: self.law,
+            drive,
+            harmonic: self.harmonic,
+            tracks: self.tracks,
+            load: self.load,
+            lift_off: self.lift_off,
+            lifted: self.lifted,
+            x_kin_ref: self.x_kin_ref,
+            f_c: self.f_c,
+            _v: std::marker::PhantomData,
+        }
+    }
+
     /// The normal force at `t` where it is an input: the track, or 0 while lifted off.
     #[inline(always)]
     pub(super) fn load_at(&self, t: f64) -> f64 {

@@ -83,8 +83,8 @@ const RELAX_FIRST: f64 = 0.4;
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
     /// True when this contact takes the explicit path: a force or spring drive, Dahl with
-    /// `kappa = 1` at a constant load, and (planar scenes) the motion on x: no lateral
-    /// deformation, velocity or support motion now.
+    /// `kappa = 1` at a constant load, and (planar scenes) the motion on x
+    /// ([`Contact::on_x_axis`]).
     pub(super) fn explicit_path(&self) -> bool {
         if self.radau_only
             || self.dynamics.load.is_some()
@@ -93,6 +93,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         {
             return false;
         }
+        self.on_x_axis()
+    }
+
+    /// True when the motion of a force- or spring-driven body (state `[s, x, v]`, each of
+    /// `V::DIM` components) stays on the x axis: a longitudinal contact, or a planar one with
+    /// no lateral deformation, velocity or support motion now (nothing then pushes the body off
+    /// the axis).
+    pub(super) fn on_x_axis(&self) -> bool {
         if V::DIM == 1 {
             return true;
         }
@@ -580,32 +588,9 @@ impl<'a> Branch<'a> {
     }
 }
 
-/// `exp(x) − 1` for `x` in [−39, 50], to about 2 units in the last place (relative): the
-/// right-hand side's one elementary function, cheaper than `libm::expm1` (no special cases,
-/// no division). `x = k·ln 2 + r` with `|r| ≤ ln 2 / 2` (Cody–Waite), `exp(r) − 1` by its
-/// Taylor series to `r^13/13!` (truncation below 1e-17 relative), then
-/// `2^k·(1 + p) − 1 = (2^k − 1) + 2^k·p`, exact for `k = 0`. Plain arithmetic: the same bits
-/// on every platform.
-#[inline(always)]
-pub(super) fn expm1(x: f64) -> f64 {
-    // ln 2 in two parts (fdlibm's): k·LN2_HI is exact for |k| < 2^11.
-    const LN2_HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000);
-    const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);
-    // Adding and subtracting 1.5·2^52 rounds to the nearest integer.
-    const ROUND: f64 = 6_755_399_441_055_744.0;
-    let k = (x * std::f64::consts::LOG2_E + ROUND) - ROUND;
-    let r = (x - k * LN2_HI) - k * LN2_LO;
-    let (r2, c) = (r * r, |n: f64| 1.0 / n);
-    let r4 = r2 * r2;
-    let a = c(2.0) + c(6.0) * r;
-    let b = (c(24.0) + c(120.0) * r) + r2 * (c(720.0) + c(5040.0) * r);
-    let d = (c(40320.0) + c(362_880.0) * r)
-        + r2 * (c(3_628_800.0) + c(39_916_800.0) * r)
-        + r4 * (c(479_001_600.0) + c(6_227_020_800.0) * r);
-    let p = r + r2 * a + r4 * b + (r4 * r4) * d;
-    let scale = f64::from_bits(((1023 + k as i64) as u64) << 52);
-    (scale - 1.0) + scale * p
-}
+/// The right-hand side's one elementary function (in the physics layer, beside the `exp` of
+/// the same kernel that LuGre's velocity terms take).
+pub(super) use crate::physics::trig::expm1;
 
 /// A point just past the root of `g` in `(a, b)`, from `g(a) = ga ≥ 0 > g(b) = gb`, by the
 /// Illinois method: the first `b` found with `−within ≤ g(b) < 0`, or the bracket's end at the
@@ -653,10 +638,11 @@ pub(super) fn root(
     b
 }
 
-/// The support velocity along x at the stage times of the explicit path's steps: the harmonic
-/// source's phase carried from step to step by rotations (two sines and cosines per step rather
+/// The support velocity along x at the stage times of the explicit paths' steps (this one's,
+/// and the planar path's in one dimension): the harmonic source's phase carried from step to
+/// step by rotations (two sines and cosines per step rather
 /// than a cosine at each of its six stages), the input track at each time.
-struct StageSupport {
+pub(super) struct StageSupport {
     /// The source's velocity amplitude along x (0 without a source).
     amp: f64,
     /// Its angular frequency.
@@ -674,7 +660,7 @@ fn rot(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
 }
 
 impl StageSupport {
-    fn new<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
+    pub(super) fn new<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
         dynamics: &Dynamics<V, L, D>,
         input_support: bool,
         t: f64,
@@ -708,7 +694,7 @@ impl StageSupport {
     /// The support velocity at the stage times `t + C[i]·h` of a step from `t`, and the
     /// rotation over the whole step (for [`StageSupport::turn`] once it is accepted).
     #[inline(always)]
-    fn stages(&self, t: f64, h: f64) -> ([f64; 7], (f64, f64)) {
+    pub(super) fn stages(&self, t: f64, h: f64) -> ([f64; 7], (f64, f64)) {
         let mut w = [0.0; 7];
         let mut whole = (1.0, 0.0);
         if self.amp != 0.0 {
@@ -745,29 +731,7 @@ impl StageSupport {
 
     /// Moves the phase on over an accepted step.
     #[inline(always)]
-    fn turn(&mut self, whole: (f64, f64)) {
+    pub(super) fn turn(&mut self, whole: (f64, f64)) {
         self.phase = rot(self.phase, whole);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    /// The explicit path's expm1 against libm's over its range, near 0 and at the ends.
-    #[test]
-    fn expm1_is_libm_s_to_a_few_units_in_the_last_place() {
-        let mut worst: f64 = 0.0;
-        let mut check = |x: f64| {
-            let (a, b) = (super::expm1(x), libm::expm1(x));
-            worst = worst.max(((a - b) / b.abs()).abs() / f64::EPSILON);
-        };
-        for i in 0..=200_000 {
-            check(-39.0 + 89.0 * i as f64 / 200_000.0 + 1e-9);
-            check((i as f64 - 100_000.0) * 1e-7 + 1e-15);
-        }
-        for x in [-39.0, 50.0, 1e-300, -1e-20, 0.5 * std::f64::consts::LN_2] {
-            check(x);
-        }
-        assert!(worst < 4.0, "{worst} ulp");
-        assert_eq!(super::expm1(0.0).to_bits(), 0.0f64.to_bits());
     }
 }
