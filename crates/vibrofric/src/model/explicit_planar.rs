@@ -456,7 +456,13 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             // leaves ([`settled`]; Dahl's: LuGre's force also takes the deformation's rate).
             // An exponential step's is the interpolation's, in the force all along the step.
             if !last && !exponential && weigh {
-                err_s = settled(err_s, &k1, &step.k[6], hh, t_target - (t + hh), push);
+                err_s = settled(
+                    err_s,
+                    (k1[il], step.k[6][il]),
+                    hh,
+                    t_target - (t + hh),
+                    push,
+                );
             }
             let err = err.max(err_s);
             let err = if u1.iter().all(|z| z.is_finite()) && err.is_finite() {
@@ -868,21 +874,12 @@ fn exp_neg(z: f64) -> f64 {
 
 /// A deformation error `err_s` (scaled) of a plain step of length `h` that ends short of its
 /// call's end (by `ahead`), weighed by what it leaves: it grew along the step and relaxes after
-/// it at the rate `dλ/dt = |v_r|/s_ss` in every direction (the integrated vector's last
-/// component at the step's start `k0` and end `k1`), having pushed the body by at most
-/// `(k_t/m)·δs·(h + 1/(dλ/dt))` in velocity (`push` is `k_t/m` on the scale of the errors,
-/// with a margin); what is left of it at the call's end, `exp(−λ)` over the time ahead (up
-/// to where the rate would vanish at its present rate of change), is its share of the
-/// outputs' error there.
-fn settled<const M: usize>(
-    err_s: f64,
-    k0: &[f64; M],
-    k1: &[f64; M],
-    h: f64,
-    ahead: f64,
-    push: f64,
-) -> f64 {
-    let (r0, r1) = (k0[M - 1], k1[M - 1]);
+/// it at the rate `dλ/dt = |v_r|/s_ss` in every direction (`rates` at the step's start and
+/// end), having pushed the body by at most `(k_t/m)·δs·(h + 1/(dλ/dt))` in velocity (`push` is
+/// `k_t/m` on the scale of the errors, with a margin); what is left of it at the call's end,
+/// `exp(−λ)` over the time ahead (up to where the rate would vanish at its present rate of
+/// change), is its share of the outputs' error there.
+fn settled(err_s: f64, (r0, r1): (f64, f64), h: f64, ahead: f64, push: f64) -> f64 {
     let rate = r0.min(r1);
     let change = (r1 - r0) / h;
     let lambda = if change >= 0.0 {
