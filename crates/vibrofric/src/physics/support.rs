@@ -49,6 +49,13 @@ impl Harmonic {
         (v * self.dir.0, v * self.dir.1)
     }
 
+    /// Support acceleration (x, y) at `t`: the derivative of [`Harmonic::velocity`].
+    #[inline(always)]
+    pub fn acceleration(&self, t: f64) -> (f64, f64) {
+        let a = -self.v_a() * TAU * self.f * super::trig::sin(self.theta(t));
+        (a * self.dir.0, a * self.dir.1)
+    }
+
     /// Support displacement along its direction at `t`.
     pub fn displacement(&self, t: f64) -> f64 {
         self.u0 * super::trig::sin(self.theta(t))
