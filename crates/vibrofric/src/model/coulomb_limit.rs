@@ -93,10 +93,10 @@ fn correction_of_velocity<V: Vector>(len: f64, vr: V, dv: V) -> V {
 pub struct Point<V> {
     /// The deformation to second order, `L·e + z2`.
     pub s: V,
-    /// `|z1|`.
-    pub first: f64,
-    /// `|z2 − z1|`.
-    pub second: f64,
+    /// `|z1|²`.
+    pub first2: f64,
+    /// `|z2 − z1|²`.
+    pub second2: f64,
     /// `v_r`.
     pub vr: V,
     /// `|v_r|`.
@@ -125,8 +125,8 @@ pub fn manifold<V: Vector>(len: f64, vr: V, a0: V, a1: V, jerk: V) -> Point<V> {
     let z2 = correction(len, vr, a1) - dz1 * (len * inv_r);
     Point {
         s: e * len + z2,
-        first: z1.norm(),
-        second: (z2 - z1).norm(),
+        first2: z1.dot(z1),
+        second2: (z2 - z1).dot(z2 - z1),
         vr,
         r,
         ar: a0,
@@ -182,29 +182,28 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
         })
     }
 
-    /// The support's velocity, acceleration and jerk at `t`: the harmonic source's, and the
-    /// input tracks' values and slopes. The velocity is the right-hand side's (remembered for
-    /// the stage's evaluation).
+    /// The support's velocity, acceleration and jerk at `t`: the harmonic source's (one
+    /// argument reduction), and the input tracks' values and slopes. The velocity has the
+    /// right-hand side's bits and is remembered for the stage's evaluation at `t`.
     #[inline(always)]
     fn support(&self, t: f64) -> [V; 3] {
         let dynamics = self.sys.dynamics;
-        let vs = self.sys.support(t);
-        let (mut acc, mut jerk) = (V::default(), V::default());
-        let mut harmonic = vs;
+        let (mut vs, mut acc, mut jerk) = (V::default(), V::default(), V::default());
+        if let Some(h) = &dynamics.harmonic {
+            let ((vx, vy), (ax, ay)) = h.velocity_acceleration(t);
+            (vs, acc) = (V::from_xy(vx, vy), V::from_xy(ax, ay));
+            let w = std::f64::consts::TAU * h.f;
+            jerk = vs * (-w * w);
+        }
         if self.sys.input_support {
             let (x, y) = (
                 &dynamics.tracks[InputId::VSx.index()],
                 &dynamics.tracks[InputId::VSy.index()],
             );
-            harmonic = harmonic - V::from_xy(x.at(t), y.at(t));
-            acc = V::from_xy(x.slope, y.slope);
+            vs = vs + V::from_xy(x.at(t), y.at(t));
+            acc = acc + V::from_xy(x.slope, y.slope);
         }
-        if let Some(h) = &dynamics.harmonic {
-            let (x, y) = h.acceleration(t);
-            acc = acc + V::from_xy(x, y);
-            let w = std::f64::consts::TAU * h.f;
-            jerk = harmonic * (-w * w);
-        }
+        self.sys.remember_support(t, vs);
         [vs, acc, jerk]
     }
 
@@ -264,11 +263,10 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
         };
         let s0 = V::read(&u[..V::DIM]);
         let on = (s0 - point.s).norm() <= START_FRACTION * self.rtol * self.len;
-        (on && point.first <= FIRST_MAX * self.len && self.converges(point.first, point.second))
-            .then(|| Start {
-                point,
-                reach: reach(&point),
-            })
+        (on && self.small(&point) && self.converges(point.first2, point.second2)).then(|| Start {
+            point,
+            reach: reach(&point),
+        })
     }
 
     /// One Dormand–Prince step of length `h` (at most the start's reach) on the manifold from
@@ -294,7 +292,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
         if !ok {
             return None;
         }
-        let (mut first, mut second) = (p0.first, p0.second);
+        let (mut first2, mut second2) = (p0.first2, p0.second2);
         let s0 = V::read(&u[..V::DIM]);
         let mut u0 = *u;
         p0.s.write(&mut u0[..V::DIM]);
@@ -309,8 +307,8 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
                 let p = self.point::<N>(tt, y);
                 let s = match p {
                     Some(p) if ok && self.fits(&p, h) => {
-                        first = first.max(p.first);
-                        second = second.max(p.second);
+                        first2 = first2.max(p.first2);
+                        second2 = second2.max(p.second2);
                         if i == 6 {
                             end = Some((tt, p));
                         }
@@ -328,7 +326,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
             &k1,
             h,
         );
-        if !ok || !self.converges(first, second) {
+        if !ok || !self.converges(first2, second2) {
             return None;
         }
         let (te, pe) = end?;
@@ -350,19 +348,27 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
     }
 
     /// Whether the expansion converges ([`RATIO_MAX`]) and its neglected third order
-    /// ([`neglected`]) is below its share of the tolerance, given the largest first and second
-    /// order terms over a step.
+    /// ([`neglected`]) is below its share of the tolerance, given the squares of the largest
+    /// first and second order terms over a step.
     #[inline(always)]
-    fn converges(&self, first: f64, second: f64) -> bool {
-        second == 0.0
-            || (second <= RATIO_MAX * first
-                && neglected(first, second) <= NEGLECT_FRACTION * self.rtol * self.len)
+    fn converges(&self, first2: f64, second2: f64) -> bool {
+        second2 == 0.0
+            || (second2 <= RATIO_MAX * RATIO_MAX * first2
+                && neglected(first2.sqrt(), second2.sqrt())
+                    <= NEGLECT_FRACTION * self.rtol * self.len)
+    }
+
+    /// Whether the first-order term is within [`FIRST_MAX`] and the deformation finite.
+    #[inline(always)]
+    fn small(&self, p: &Point<V>) -> bool {
+        let most = FIRST_MAX * self.len;
+        p.first2 <= most * most && p.s.x().is_finite() && p.s.y().is_finite()
     }
 
     /// Whether one point is within the expansion's reach over a step of length `h`.
     #[inline(always)]
     fn fits(&self, p: &Point<V>, h: f64) -> bool {
-        p.first <= FIRST_MAX * self.len && h <= reach(p) && p.s.norm().is_finite()
+        self.small(p) && h <= reach(p)
     }
 }
 
@@ -432,8 +438,8 @@ mod tests {
                     worst = worst.max((p.s - s).norm() / len);
                     let s1 = vr(t) * (len / vr(t).norm()) + correction(len, vr(t), ar(t));
                     worst_first = worst_first.max((s1 - s).norm() / len);
-                    first = first.max(p.first / len);
-                    second = second.max(p.second / len);
+                    first = first.max(p.first2.sqrt() / len);
+                    second = second.max(p.second2.sqrt() / len);
                 }
             }
             // The second order is the first order's error; the third order, the second's,
