@@ -10,7 +10,10 @@
 //! ([`DUPONT_TOL_FRACTION`]). What is left, `dξ/dt = v − v_s(t)`,
 //! `dx/dt = v`, `m·dv/dt = F_d − k_t·s(ξ)`, is smooth and integrated by Dormand–Prince 5(4)
 //! with error control, each step cut where `v_r` changes sign (located on the continuous
-//! extension), and `∫F_Fx dt` integrated alongside with the fifth-order weights.
+//! extension), and `∫F_Fx dt` integrated alongside with the fifth-order weights. The error
+//! control weighs the deformation's error short of a call's end by its effect on the body
+//! (it relaxes along the branch; [`PUSH_MARGIN`]), so that a stiff contact's swing after a
+//! reversal costs few steps.
 //!
 //! A sign change of `v_r` counts once `σ·v_r` falls below `−band`, `band` a twentieth of the
 //! tolerance of the velocity of the contact's own oscillation (`s_ss·sqrt(k_t/m)`): a stuck
@@ -34,16 +37,28 @@ use std::sync::Arc;
 
 /// The error control's tolerance as a fraction of the user's: the global error of `F_Fx` is
 /// then below the tolerance times `F_C` (measured on VibratingContact against Radau at 1e-12,
-/// 1 s in 1 ms steps: 8.9e-7 at 1e-6 and 8.9e-9 at 1e-8; at a fraction of 0.5 it was 9.5e-7
-/// and 1.003e-8).
-const TOL_FRACTION: f64 = 0.45;
+/// 1 s in 1 ms steps: 5.0e-7 at 1e-6 and 9.4e-9 at 1e-8; at 0.45, 1.07e-8 at 1e-8 once the
+/// deformation's error was weighed by its effect (see [`PUSH_MARGIN`]), 8.9e-9 before).
+const TOL_FRACTION: f64 = 0.4;
 
 /// The same for Dupont, whose elastic part (up to the breakaway) keeps the errors of each step
 /// where Dahl's relaxation damps them (VibratingContactDupont against Radau at 1e-12, 1 s in
-/// 1 ms steps: `F_Fx` within 1.5e-7 of `F_C` at 1e-6 and 2.0e-9 at 1e-8, Radau's own at those
-/// tolerances 2.3e-7 and 5.5e-9; when the fraction was chosen, before the reversal predictor:
-/// 0.03 gave 2.0e-7 and 1.9e-9, 0.1 1.1e-6 and 5.4e-9, 0.45 3e-6 and 1e-8).
+/// 1 ms steps: `F_Fx` within 4.1e-7 of `F_C` at 1e-6 and 2.6e-9 at 1e-8, Radau's own at those
+/// tolerances 2.3e-7 and 5.5e-9; 1.5e-7 and 2.0e-9 before the breakaway predictor; when the
+/// fraction was chosen, before the reversal predictor: 0.03 gave 2.0e-7 and 1.9e-9, 0.1 1.1e-6
+/// and 5.4e-9, 0.45 3e-6 and 1e-8).
 const DUPONT_TOL_FRACTION: f64 = 0.03;
+
+/// Short of a call's end, a step's error in the deformation is weighed by what it leaves: the
+/// velocity it pushes into the body before the branch relaxes it, and what is left of it at
+/// the call's end. This is the margin on the first (the bound takes `v_r` at the step's end
+/// for the whole relaxation, and the error in `ξ` grows meanwhile with the error of the
+/// velocity it feeds; at 1 the `F_Fx` error of VibratingContact was 1.4e-8 at tolerance 1e-8
+/// over 0.1 s, at 3 1.09e-8, with TOL_FRACTION at 0.45). After a reversal of a stiff contact
+/// this is what sets the steps: the deformation swings by `2·s_ss` within a few `s_ss` while
+/// the body's velocity hardly notices (VibratingContact at `k_t` = 1e12: 16.1 steps per period
+/// at tolerance 1e-6, 25.0 with the deformation's own error).
+const PUSH_MARGIN: f64 = 3.0;
 
 /// How far past Dupont's breakaway (in `s_ss`) a step retaken to end on it may end: the
 /// deformation there is taken as elastic, off by about the cube of this.
@@ -52,6 +67,15 @@ const BREAKAWAY_WITHIN: f64 = 1e-9;
 /// How far past the reversal predicted from `v_r` and its rate at a step's start the step may
 /// end.
 const PAST_REVERSAL: f64 = 1.25;
+
+/// How far past the breakaway predicted from `v_r` and its rate at a step's start the step may
+/// end (it is then retaken to end there).
+const PAST_BREAKAWAY: f64 = 1.25;
+
+/// A breakaway within this fraction of a step from its start is taken along inside the step:
+/// the jump of the deformation's third derivative so near the start costs the step nothing
+/// measurable, where ending a step on it would leave a step of that length to grow from.
+const BREAKAWAY_AT_START: f64 = 1e-3;
 
 /// The first step on a new branch as a fraction of the time its relaxation over one `s_ss`
 /// takes from rest (a whole one fails the error test by 20–100 on VibratingContact).
@@ -235,6 +259,18 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 if sigma * vr > 0.0 && sigma * ar < 0.0 {
                     hh = hh.min(PAST_REVERSAL * (-vr / ar));
                 }
+                // Heading for Dupont's breakaway: likewise a little past where the elastic
+                // room would be used up at the present `v_r` and its rate of change.
+                if let Some(room) = branch.room() {
+                    let (u, w) = (sigma * vr, sigma * ar);
+                    let d = room * len;
+                    // The root of `u·τ + w·τ²/2 = d`, in the form that is exact for `w = 0`.
+                    let disc = u * u + 2.0 * w * d;
+                    let tau = 2.0 * d / (u + disc.max(0.0).sqrt());
+                    if u > 0.0 && disc >= 0.0 && tau > BREAKAWAY_AT_START * hh {
+                        hh = hh.min(PAST_BREAKAWAY * tau);
+                    }
+                }
             }
             let mut last = false;
             if let Some(te) = event_target {
@@ -262,10 +298,39 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             stats.rhs_evals += 6;
             let u1 = step.end();
             let slope = branch.slope(u1[0]);
+            let v_scale = nom_v + v.abs().max(u1[2].abs());
+            let mut e_s = step.err[0] * slope / (rtol * (nom_s + s0.abs()));
+            if !last {
+                // Short of the call's end the deformation's error counts by what it leaves
+                // ([`PUSH_MARGIN`]): it relaxes along the branch (after Dupont's elastic room),
+                // having pushed the body by at most `(k_t/m)·δξ·|σ·s_ss − s|/|v_r|` in velocity
+                // (the force error `k_t·ds/dξ·δξ` over the time `∫ds/dξ dξ/|v_r|` the branch
+                // takes to relax); what is left of it at the call's end, after the relative
+                // displacement `reach` still ahead (up to a reversal), is its share of the
+                // output's error there.
+                let (vr, ar) = (
+                    step.k[6][0],
+                    (step.k[6][0] - step.k[4][0]) / ((1.0 - C[4]) * hh),
+                );
+                let ahead = t_target - (t + hh);
+                let reach = if sigma * ar >= 0.0 {
+                    vr.abs() * ahead
+                } else {
+                    (vr.abs() * ahead).min(0.5 * vr * vr / ar.abs())
+                };
+                let pushed =
+                    PUSH_MARGIN * step.err[0] * k_t * inv_m * (sigma * len - s_at[6]).abs()
+                        / (vr.abs() * rtol * v_scale);
+                if pushed.is_finite() {
+                    e_s = e_s
+                        .abs()
+                        .min((e_s.abs() * branch.kept(u1[0], reach)).max(pushed.abs()));
+                }
+            }
             let e = [
-                step.err[0] * slope / (rtol * (nom_s + s0.abs())),
+                e_s,
                 step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),
-                step.err[2] / (rtol * (nom_v + v.abs().max(u1[2].abs()))),
+                step.err[2] / (rtol * v_scale),
             ];
             let err = ((e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / 3.0).sqrt();
             let err = if u1.iter().all(|z| z.is_finite()) && err.is_finite() {
@@ -412,7 +477,7 @@ fn event_in(
         return None;
     }
     let theta = root(&gk, (0.0, room), (1.0, end), BREAKAWAY_WITHIN);
-    (theta < 1.0 && theta * h > 64.0 * f64::EPSILON * t.abs().max(h))
+    (theta < 1.0 && theta > BREAKAWAY_AT_START && theta * h > 64.0 * f64::EPSILON * t.abs())
         .then_some(Event::Breakaway(theta))
 }
 
@@ -489,6 +554,21 @@ impl<'a> Branch<'a> {
             Some((_, start)) if start.room > 0.0 || back > 0.0 => 1.0,
             Some((shape, _)) => shape.slope(p0),
             None => (1.0 - p0).abs() * if back > 0.0 { libm::exp(back) } else { 1.0 },
+        }
+    }
+
+    /// The share of a deformation error at the relative displacement `xi` left after a further
+    /// `reach` (≥ 0) along the branch: an elastic part keeps it, a relaxing part damps it as
+    /// `exp(−ξ/s_ss)` (Dahl's exactly, Dupont's plastic part about so).
+    fn kept(&self, xi: f64, reach: f64) -> f64 {
+        let room = self.plastic.map_or(0.0, |(_, start)| {
+            (start.room - self.sigma * xi * self.inv_len).max(0.0)
+        });
+        let du = reach * self.inv_len - room;
+        if du > 0.0 {
+            libm::exp(-du)
+        } else {
+            1.0
         }
     }
 
