@@ -2,8 +2,9 @@
 //! takes and on Radau IIA alone, at tolerances 1e-6 and 1e-9, with held and with ramped inputs
 //! (the explicit path against Radau at 1e-12, closer to the truth than Radau at the same
 //! tolerance); the explicit path at 1e-10 against Radau at 1e-12; the exponential path on LuGre
-//! against Radau at 1e-12; and a step over a million vibration periods against stepping them one
-//! by one.
+//! against Radau at 1e-12; the planar path's step on a stiff Dahl contact's slow manifold at
+//! `k_t` = 1e11 and 1e12 against Radau at 1e-10; and a step over a million vibration periods
+//! against stepping them one by one.
 
 mod support;
 
