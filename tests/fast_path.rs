@@ -2,8 +2,9 @@
 //! takes and on Radau IIA alone, at tolerances 1e-6 and 1e-9, with held and with ramped inputs
 //! (the explicit path against Radau at 1e-12, closer to the truth than Radau at the same
 //! tolerance); the explicit path at 1e-10 against Radau at 1e-12; the exponential path on LuGre
-//! against Radau at 1e-12; and a step over a million vibration periods against stepping them one
-//! by one.
+//! against Radau at 1e-12; the planar path's step on a stiff Dahl contact's slow manifold at
+//! `k_t` = 1e11 and 1e12 against Radau at 1e-10; and a step over a million vibration periods
+//! against stepping them one by one.
 
 mod support;
 
@@ -410,5 +411,88 @@ fn tight_tolerances_keep_the_planar_path_s_steps_bounded() {
             steps < 50_000,
             "tol {tol:e}: {steps} attempted steps in 10 ms"
         );
+    }
+}
+
+/// The planar explicit path on a stiff Dahl contact takes its step on the Coulomb limit's slow
+/// manifold (the body alone, the deformation a function of its motion) wherever that is
+/// certified: RigTransverse and PaperTransverse at `k_t` = 1e11 and 1e12, tolerances 1e-6 and
+/// 1e-8, against Radau IIA at 1e-10 (an independent reference; it and the path at 1e-12 agree to
+/// 6e-10 of `F_C`), over 20 ms in communication steps of 1 ms: `F_Fx` and `F_Fy` within a
+/// fifth of the tolerance of `F_C` (plus the reference's own error) at every communication
+/// point, the deformation on the manifold's side of `|s| ≤ s_ss`, and the manifold's steps
+/// counted. A state saved on the manifold and restored continues bit for bit.
+#[test]
+fn coulomb_limit_agrees_with_radau_at_1e_10() {
+    let n = 20;
+    let run = |scene: &Scene, k_t: f64, tol: f64, path: Integrator| {
+        let p = vibrofric::table::Params { k_t, ..scene.start };
+        let mut sim = Setup::new(scene.config, p)
+            .inputs(scene.inputs)
+            .tolerance(tol)
+            .on(path)
+            .build()
+            .unwrap();
+        let mut out = vec![];
+        for k in 1..=n {
+            sim.step_to(k as f64 * 1e-3).unwrap();
+            out.push(sim.outputs());
+        }
+        (out, sim)
+    };
+    for file in ["rig-transverse.toml", "paper-transverse.toml"] {
+        let scene = scene(file);
+        for k_t in [1e11, 1e12] {
+            let f_c = scene.start.f_c();
+            let s_ss = f_c / k_t;
+            let (reference, _) = run(&scene, k_t, 1e-10, Integrator::Radau);
+            for tol in [1e-6, 1e-8] {
+                let (out, sim) = run(&scene, k_t, tol, Integrator::ClosedForm);
+                let what = format!("{file} k_t {k_t:e} tol {tol:e}");
+                assert_eq!(sim.integrator(), Integrator::ExplicitPlanar, "{what}");
+                let bound = (0.2 * tol + 2e-9) * f_c;
+                for (k, (a, b)) in out.iter().zip(&reference).enumerate() {
+                    for (q, x, y) in [("F_Fx", a.f_fx, b.f_fx), ("F_Fy", a.f_fy, b.f_fy)] {
+                        assert!(
+                            (x - y).abs() <= bound,
+                            "{what} at {} ms: {q} {x} vs {y}",
+                            k + 1
+                        );
+                    }
+                    assert!(a.s_x.hypot(a.s_y) <= s_ss, "{what}: |s| > s_ss");
+                }
+                let stats = sim.stats();
+                // The manifold is certified at 1e12 (PaperTransverse: |v_r| ≥ v_d throughout,
+                // nearly every step; RigTransverse: away from its start's slow sliding), and
+                // at 1e11 at the looser tolerance only.
+                let share = stats.limit_steps as f64 / stats.steps as f64;
+                let least = match (file, k_t == 1e12, tol == 1e-6) {
+                    ("paper-transverse.toml", true, _) => 0.35,
+                    (_, true, _) => 0.05,
+                    (_, false, true) => 0.01,
+                    _ => 0.0,
+                };
+                assert!(share >= least, "{what}: {stats:?}");
+            }
+        }
+    }
+    // A state saved on the manifold (PaperTransverse at 1e12) continues bit for bit.
+    let scene = scene("paper-transverse.toml");
+    let (_, mut a) = run(&scene, 1e12, 1e-6, Integrator::ClosedForm);
+    assert!(a.stats().limit_steps > 0);
+    let snap = a.snapshot();
+    let (_, mut b) = run(&scene, 1e12, 1e-6, Integrator::ClosedForm);
+    b.restore(&snap).unwrap();
+    let mut c = build(scene.config, scene.start, 0.0, 1e-6).unwrap();
+    c.restore(&snap).unwrap();
+    for k in 1..=5 {
+        let t = (n as f64 + 0.7 * k as f64) * 1e-3;
+        a.step_to(t).unwrap();
+        b.step_to(t).unwrap();
+        c.step_to(t).unwrap();
+        let (oa, ob, oc) = (a.outputs(), b.outputs(), c.outputs());
+        assert_eq!(format!("{oa:?}"), format!("{ob:?}"));
+        assert_eq!(format!("{oa:?}"), format!("{oc:?}"));
+        assert_eq!(oa.f_fy.to_bits(), oc.f_fy.to_bits());
     }
 }

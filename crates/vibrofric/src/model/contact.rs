@@ -768,6 +768,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             rhs_evals: s.rhs_evals,
             jacobians: s.jacobians,
             events: s.events,
+            limit_steps: s.limit_steps,
         }
     }
 

@@ -298,6 +298,18 @@ impl<'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> System<'a, V, L, D> {
         v
     }
 
+    /// Remembers the support velocity `v` at `t` computed elsewhere (with the same bits as
+    /// [`Dynamics::support_velocity`]), for the evaluations at `t` that follow.
+    #[inline(always)]
+    pub(super) fn remember_support(&self, t: f64, v: V) {
+        let (mut slots, next) = self.cache.get();
+        if slots.iter().any(|(ts, _)| *ts == t) {
+            return;
+        }
+        slots[next] = (t, v);
+        self.cache.set((slots, (next + 1) % SUPPORT_CACHE));
+    }
+
     #[inline(always)]
     pub(super) fn eval(&self, t: f64, y: &[f64]) -> Eval<V> {
         self.dynamics.eval(t, y, self.support(t))

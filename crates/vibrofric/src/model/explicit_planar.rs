@@ -39,6 +39,7 @@
 //! rest.
 
 use super::contact::Contact;
+use super::coulomb_limit::Limit;
 use super::drive::{Axial, DriveInputs, DriveKind};
 use super::dynamics::{Dynamics, Eval, System};
 use super::explicit::StageSupport;
@@ -74,6 +75,10 @@ const EXPONENTIAL_FROM: f64 = 1.0;
 /// 1e-10, and the steps shrank to 2.6e-8 s, two million per 50 ms); a third of that keeps the
 /// exponential step within reach. At tolerance 1e-6 the threshold is still 1.
 const EXPONENTIAL_REACH: f64 = 25.0;
+
+/// A step on the Coulomb limit's manifold is cut to the reach of its start (no sign change of
+/// `v_r` within it) down to this fraction of the step proposed; below, the exponential step.
+const REACH_CUT: f64 = 0.2;
 
 /// The longest step, as a fraction of the step before it, that bridges the rest of the way
 /// to a sign change of `v_rx` on the x axis which that step, ending on the sign change as
@@ -257,6 +262,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         let scale = sys.scale;
         let bound = dynamics.law.bound();
         let relax = Relax::new(dynamics.law);
+        let manifold = Limit::new(sys, rtol);
         // The right-hand side at `(tt, u)` with the deformation `s` (the state's own, or an
         // exponential stage's), given the relative velocity `vr` there and its decay rate
         // `|v_r|/s_ss` (LuGre `|v_r|/g(v_r)`); the body's equations read only `u`'s body part.
@@ -358,7 +364,38 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             // `v_r` at the stages of the step taken (of its last pass).
             let mut vr_at = [V::default(); 7];
             let exponential = k1[il] * hh >= exponential_from;
-            let (step, mut u1) = if exponential {
+            // Where a stiff Dahl contact's deformation is certified on its slow manifold, the
+            // body alone (`coulomb_limit.rs`), the step cut to the start's reach (no sign change
+            // of `v_r` within it); else the exponential step.
+            let start = match &manifold {
+                Some(m) if exponential && cut.is_none() => {
+                    m.start::<N>(t, &u).filter(|st| st.reach >= REACH_CUT * hh)
+                }
+                _ => None,
+            };
+            if let Some(st) = &start {
+                if st.reach < hh {
+                    hh = st.reach;
+                    last = false;
+                }
+            }
+            let on_limit = match (&manifold, &start) {
+                (Some(m), Some(st)) => m.step::<N, M>(st, t, &u, &k1, hh, |i, tt, y, s| {
+                    let k = kin(tt, y);
+                    vr_at[i] = k.vr;
+                    rhs_with(y, s, &k)
+                }),
+                _ => None,
+            };
+            let limited = on_limit.is_some();
+            let (step, mut u1) = if let Some((step, u1)) = on_limit {
+                // The deformation's error: the manifold's under the body's.
+                for c in 0..V::DIM {
+                    let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
+                    err = err.max((step.err[c] / w).abs());
+                }
+                (step, u1)
+            } else if exponential {
                 // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
                 // the target `q = s_ss·v_r/|v_r|` interpolated in λ through the stages so far
                 // (their λ from the method's own stages of `dλ/dt = |v_r|/s_ss`): exact for
@@ -526,6 +563,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
                 continue;
             }
             stats.steps += 1;
+            stats.limit_steps += limited as u64;
             // A step that ends on a sign change of `v_rx` may end a little short of it, by the
             // error of the continuous extension it was located on: the next step then bridges
             // the rest, twice the time `v_rx` takes to vanish at its rate at the end, where that
@@ -552,8 +590,9 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             if let (Some(s), Some((_, turn))) = (support.as_mut(), stage_support) {
                 s.turn(turn);
             }
-            // After an exponential step the end's deformation is not the last stage's.
-            fsal = (!exponential).then_some(step.k[6]);
+            // After an exponential step the end's deformation is not the last stage's (after a
+            // step on the manifold it is).
+            fsal = (!exponential || limited).then_some(step.k[6]);
             t = if last { t_target } else { t + hh };
             // |s| ≤ s_ss holds for the equation; the step may overshoot it by its error.
             if let Some(b) = bound {

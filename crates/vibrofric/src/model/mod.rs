@@ -17,11 +17,14 @@
 //! - `time.rs`: communication points as importers compute them, and time limits;
 //! - `exact.rs`: the closed-form path (longitudinal Dahl under velocity drive);
 //! - `explicit.rs`: the explicit path (a body on a Dahl contact, moving along x);
+//! - `explicit_planar.rs`: the planar explicit path (a body on a planar Dahl or LuGre contact),
+//!   and `coulomb_limit.rs`, its step on a stiff Dahl contact's slow manifold (the body alone);
 //! - `ode.rs`: the equations as a plain ODE for other integrators;
 //! - `exchange.rs`: the contact for an importer's integrator (Model Exchange): states,
 //!   derivatives, event indicators and updates, directional derivatives.
 
 mod contact;
+mod coulomb_limit;
 mod drive;
 mod dynamics;
 mod elastic;

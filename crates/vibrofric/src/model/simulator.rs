@@ -110,6 +110,9 @@ pub struct StepStats {
     pub jacobians: u64,
     /// Located switching events (sign changes of the relative velocity, ...).
     pub events: u64,
+    /// Of `steps`, those of the planar explicit path taken on the slow manifold of a stiff Dahl
+    /// contact (the Coulomb limit: the body alone, the deformation a function of its motion).
+    pub limit_steps: u64,
 }
 
 /// A contact that can be stepped in time. Every method that returns an error leaves the

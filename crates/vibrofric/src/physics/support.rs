@@ -49,6 +49,19 @@ impl Harmonic {
         (v * self.dir.0, v * self.dir.1)
     }
 
+    /// Support velocity and acceleration (x, y) at `t` from one argument reduction: the
+    /// velocity of [`Harmonic::velocity`] to the last bit, and its derivative.
+    #[inline(always)]
+    pub fn velocity_acceleration(&self, t: f64) -> ((f64, f64), (f64, f64)) {
+        let (s, c) = super::trig::sin_cos(self.theta(t));
+        let v = self.v_a() * c;
+        let a = -self.v_a() * TAU * self.f * s;
+        (
+            (v * self.dir.0, v * self.dir.1),
+            (a * self.dir.0, a * self.dir.1),
+        )
+    }
+
     /// Support displacement along its direction at `t`.
     pub fn displacement(&self, t: f64) -> f64 {
         self.u0 * super::trig::sin(self.theta(t))

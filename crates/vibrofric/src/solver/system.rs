@@ -115,6 +115,9 @@ pub struct SolverStats {
     pub rhs_evals: u64,
     pub jacobians: u64,
     pub events: u64,
+    /// Steps of the planar explicit path taken on the Coulomb limit's slow manifold (the body
+    /// alone; `model/coulomb_limit.rs`), counted in `steps` too.
+    pub limit_steps: u64,
 }
 
 /// One accepted step, as handed to the caller: stage `i` lies at `t + C[i]·h`, and the
