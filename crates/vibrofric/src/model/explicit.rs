@@ -329,10 +329,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 let pushed =
                     PUSH_MARGIN * step.err[0] * k_t * inv_m * (sigma * len - s_at[6]).abs()
                         / (vr.abs() * rtol * v_scale);
-                if pushed.is_finite() {
-                    e_s = e_s
-                        .abs()
-                        .min((e_s.abs() * branch.kept(u1[0], reach)).max(pushed.abs()));
+                if pushed.abs() < e_s.abs() {
+                    e_s = (e_s.abs() * branch.kept(u1[0], reach)).max(pushed.abs());
                 }
             }
             let e = [
@@ -573,8 +571,10 @@ impl<'a> Branch<'a> {
             (start.room - self.sigma * xi * self.inv_len).max(0.0)
         });
         let du = reach * self.inv_len - room;
-        if du > 0.0 {
-            libm::exp(-du)
+        if du > 40.0 {
+            0.0
+        } else if du > 0.0 {
+            trig::exp(-du)
         } else {
             1.0
         }

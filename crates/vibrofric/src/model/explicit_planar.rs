@@ -44,7 +44,7 @@ use super::drive::{Axial, DriveInputs, DriveKind};
 use super::dynamics::{Dynamics, Eval, System};
 use super::explicit::StageSupport;
 use super::simulator::SimError;
-use crate::physics::{FrictionLaw, Vector, VelocityTerms};
+use crate::physics::{trig, FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError, SolverStats};
 
@@ -927,9 +927,15 @@ fn settled(err_s: f64, (r0, r1): (f64, f64), h: f64, ahead: f64, push: f64) -> f
         (r1 * ahead).min(0.5 * r1 * r1 / -change)
     };
     let pushed = err_s * push * (h + 1.0 / rate);
-    if pushed.is_finite() && lambda.is_finite() {
-        err_s.min((err_s * libm::exp(-lambda)).max(pushed))
-    } else {
-        err_s
+    if !(pushed < err_s) || !lambda.is_finite() {
+        // Nothing to weigh off (or no rate to weigh by).
+        return err_s;
     }
+    // exp(−λ) below 1e-17 (λ > 40) leaves the push alone.
+    let left = if lambda < 40.0 {
+        trig::exp(-lambda)
+    } else {
+        0.0
+    };
+    (err_s * left).max(pushed)
 }
