@@ -927,8 +927,9 @@ fn settled(err_s: f64, (r0, r1): (f64, f64), h: f64, ahead: f64, push: f64) -> f
         (r1 * ahead).min(0.5 * r1 * r1 / -change)
     };
     let pushed = err_s * push * (h + 1.0 / rate);
-    if !(pushed < err_s) || !lambda.is_finite() {
-        // Nothing to weigh off (or no rate to weigh by).
+    // Nothing to weigh off (or no rate to weigh by, `pushed` then NaN or infinite).
+    let weighs = pushed < err_s && lambda.is_finite();
+    if !weighs {
         return err_s;
     }
     // exp(−λ) below 1e-17 (λ > 40) leaves the push alone.
