@@ -43,6 +43,7 @@ use super::coulomb_limit::Limit;
 use super::drive::{Axial, DriveInputs, DriveKind};
 use super::dynamics::{Dynamics, Eval, System};
 use super::explicit::StageSupport;
+use super::explicit::{PUSH_MARGIN, WEIGH_UP_TO};
 use super::simulator::SimError;
 use crate::physics::{trig, FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
@@ -94,12 +95,6 @@ const BRIDGE: f64 = 1e-3;
 /// tolerance-1e-12 run, 0.05 s: at 1e-6, `F_Fx` 3.1e-9 and 3.6e-8 of `F_C` against Radau's
 /// 3.0e-8 and 3.2e-8, `F_Fy` 2.9e-8 and 3.9e-7 against 3.5e-8 and 2.1e-6).
 const TOL_FRACTION: f64 = 0.1;
-
-/// A margin on the velocity a deformation error pushes into the body before it relaxes, as
-/// on the 1-D explicit path (`explicit.rs`, whose `PUSH_MARGIN` says why). RigTransverse at
-/// tolerance 1e-6, 0.1 s: 42.4 steps per period against 49.4 with the deformation's own error,
-/// `F_Fx` 1.3e-8 and `F_Fy` 2.2e-6 of `F_C` from Radau at 1e-11 against 3.7e-8 and 5.9e-6.
-const PUSH_MARGIN: f64 = 3.0;
 
 /// The largest product of the oscillation rate of a stuck body, `sqrt(k_t/m)`, and the
 /// averaging window for which the planar explicit path is taken: while the body sticks the
@@ -262,7 +257,10 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         let scale = sys.scale;
         let bound = dynamics.law.bound();
         let relax = Relax::new(dynamics.law);
+        // Planar only: the 1-D stage rotations (`support`, below) are taken for the step
+        // length before a step on the manifold may shorten it.
         let manifold = Limit::new(sys, rtol);
+        debug_assert!(manifold.is_none() || V::DIM == 2);
         // The right-hand side at `(tt, u)` with the deformation `s` (the state's own, or an
         // exponential stage's), given the relative velocity `vr` there and its decay rate
         // `|v_r|/s_ss` (LuGre `|v_r|/g(v_r)`); the body's equations read only `u`'s body part.
@@ -291,7 +289,10 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         // What a deformation error pushes into the body per unit of time, on the scale of the
         // errors: `(k_t/m)·(s_nom + |s|)/v_nom`, the velocity's nominal the body's last
         // component's; Dahl's contact only (`weigh`).
-        let weigh = dynamics.law.relaxation().is_some();
+        // (RigTransverse at tolerance 1e-6, 0.1 s: 42.4 steps per period against 49.4 with the
+        // deformation's own error, `F_Fx` 1.3e-8 and `F_Fy` 2.2e-6 of `F_C` from Radau at
+        // 1e-11 against 3.7e-8 and 5.9e-6.)
+        let weigh = dynamics.law.relaxation().is_some() && tol <= WEIGH_UP_TO;
         let push = run.push * (scale[0] + dynamics.law.envelope()) / scale[N - 1];
         let mut t = t;
         let mut u = [0.0; M];
