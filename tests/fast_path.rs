@@ -493,7 +493,12 @@ fn coulomb_limit_agrees_with_radau_at_1e_10() {
                             k + 1
                         );
                     }
-                    assert!(a.s_x.hypot(a.s_y) <= s_ss, "{what}: |s| > s_ss");
+                    // On the manifold of a body sliding at `|v_r| ≥ v_d` the deformation is
+                    // the Coulomb limit's, `s_ss` less a relative `|z1|²/2` (`|z1| ≤ 1e-2`).
+                    if file == "paper-transverse.toml" && k_t == 1e12 {
+                        let rel = a.s_x.hypot(a.s_y) / s_ss;
+                        assert!((1.0 - 1e-4..=1.0).contains(&rel), "{what}: |s|/s_ss {rel}");
+                    }
                 }
                 let stats = sim.stats();
                 // The manifold is certified at 1e12 (PaperTransverse: |v_r| ≥ v_d throughout,
@@ -501,12 +506,15 @@ fn coulomb_limit_agrees_with_radau_at_1e_10() {
                 // at 1e11 at the looser tolerance only.
                 let share = stats.limit_steps as f64 / stats.steps as f64;
                 let least = match (file, k_t == 1e12, tol == 1e-6) {
-                    ("paper-transverse.toml", true, _) => 0.35,
-                    (_, true, _) => 0.05,
-                    (_, false, true) => 0.01,
-                    _ => 0.0,
+                    ("paper-transverse.toml", true, _) => Some(0.35),
+                    (_, true, _) => Some(0.05),
+                    (_, false, true) => Some(0.01),
+                    // At 1e11 and 1e-8 the certificate rarely holds: no share is promised.
+                    _ => None,
                 };
-                assert!(share >= least, "{what}: {stats:?}");
+                if let Some(least) = least {
+                    assert!(share >= least, "{what}: {stats:?}");
+                }
             }
         }
     }
@@ -515,7 +523,9 @@ fn coulomb_limit_agrees_with_radau_at_1e_10() {
     let (_, mut a) = run(&scene, 1e12, 1e-6, Integrator::ClosedForm);
     assert!(a.stats().limit_steps > 0);
     let snap = a.snapshot();
+    // `b` restored from a later state of its own, `c` from a simulator just built.
     let (_, mut b) = run(&scene, 1e12, 1e-6, Integrator::ClosedForm);
+    b.step_to(n as f64 * 1e-3 + 3.3e-3).unwrap();
     b.restore(&snap).unwrap();
     let mut c = build(scene.config, scene.start, 0.0, 1e-6).unwrap();
     c.restore(&snap).unwrap();
