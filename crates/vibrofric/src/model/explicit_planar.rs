@@ -172,16 +172,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 let mut y1 = [y[0], y[2], y[4]];
                 let scale = [self.scale[0], self.scale[2], self.scale[4]];
                 let ix = match drive {
-                    Axial::Force(d) => {
-                        let dynamics = self.dynamics.with_drive::<f64, _>(d);
-                        let sys = self.system_on(&dynamics, &scale);
-                        steps::<f64, L, _, 3, M_AXIAL>(&sys, &mut run, t, &mut y1)
-                    }
-                    Axial::Spring(d) => {
-                        let dynamics = self.dynamics.with_drive::<f64, _>(d);
-                        let sys = self.system_on(&dynamics, &scale);
-                        steps::<f64, L, _, 3, M_AXIAL>(&sys, &mut run, t, &mut y1)
-                    }
+                    Axial::Force(d) => self.axial_steps(d, &scale, &mut run, t, &mut y1),
+                    Axial::Spring(d) => self.axial_steps(d, &scale, &mut run, t, &mut y1),
                 };
                 [y[0], y[2], y[4]] = y1;
                 ix.map(|ix| [ix[0], 0.0])
@@ -200,6 +192,21 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.radau.restart();
         self.exp_h = run.h;
         Ok(integral)
+    }
+
+    /// The path's steps in one dimension, the drive `drive` on the axis, from `(t, y1)` (`[s, x,
+    /// v]`, updated) with the scales `scale`.
+    fn axial_steps<E: DriveKind<f64>>(
+        &self,
+        drive: E,
+        scale: &[f64; 3],
+        run: &mut Run,
+        t: f64,
+        y1: &mut [f64; 3],
+    ) -> Result<Quad, SimError> {
+        let dynamics = self.dynamics.with_drive::<f64, _>(drive);
+        let sys = self.system_on(&dynamics, scale);
+        steps::<f64, L, _, 3, M_AXIAL>(&sys, run, t, y1)
     }
 
     /// The right-hand side of this contact's dynamics, or of `dynamics` in place of them.
@@ -250,383 +257,381 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     } = *run;
     // λ's component (the last but for a planar state shorter than the largest).
     let il = N + V::DIM;
-    {
-        let rtol = (TOL_FRACTION * tol).max(1e-14);
-        let exponential_from = EXPONENTIAL_FROM.min(EXPONENTIAL_REACH * libm::pow(rtol, 0.2));
-        let dynamics = sys.dynamics;
-        let scale = sys.scale;
-        let bound = dynamics.law.bound();
-        let relax = Relax::new(dynamics.law);
-        // Planar only: the 1-D stage rotations (`support`, below) are taken for the step
-        // length before a step on the manifold may shorten it.
-        let manifold = Limit::new(sys, rtol);
-        debug_assert!(manifold.is_none() || V::DIM == 2);
-        // The right-hand side at `(tt, u)` with the deformation `s` (the state's own, or an
-        // exponential stage's), given the relative velocity `vr` there and its decay rate
-        // `|v_r|/s_ss` (LuGre `|v_r|/g(v_r)`); the body's equations read only `u`'s body part.
-        let rhs_with = |u: &[f64; M], s: V, kin: &Kin<V>| -> [f64; M] {
-            let (ds, f) = dynamics.law.rate_force_at(s, kin.vr, &kin.terms);
-            let e = Eval {
-                s,
-                v: kin.v,
-                vr: kin.vr,
-                ds,
-                f,
-                drive: kin.drive,
-            };
-            let r = sys.rhs_at::<N>(&e, &u[..N]);
-            let mut out = [0.0; M];
-            out[..N].copy_from_slice(r.as_slice());
-            out[N] = f.x();
-            if V::DIM == 2 {
-                out[N + 1] = f.y();
-            }
-            out[il] = kin.terms.decay;
-            out
+    let rtol = (TOL_FRACTION * tol).max(1e-14);
+    let exponential_from = EXPONENTIAL_FROM.min(EXPONENTIAL_REACH * libm::pow(rtol, 0.2));
+    let dynamics = sys.dynamics;
+    let scale = sys.scale;
+    let bound = dynamics.law.bound();
+    let relax = Relax::new(dynamics.law);
+    // Planar only: the 1-D stage rotations (`support`, below) are taken for the step
+    // length before a step on the manifold may shorten it.
+    let manifold = Limit::new(sys, rtol);
+    debug_assert!(manifold.is_none() || V::DIM == 2);
+    // The right-hand side at `(tt, u)` with the deformation `s` (the state's own, or an
+    // exponential stage's), given the relative velocity `vr` there and its decay rate
+    // `|v_r|/s_ss` (LuGre `|v_r|/g(v_r)`); the body's equations read only `u`'s body part.
+    let rhs_with = |u: &[f64; M], s: V, kin: &Kin<V>| -> [f64; M] {
+        let (ds, f) = dynamics.law.rate_force_at(s, kin.vr, &kin.terms);
+        let e = Eval {
+            s,
+            v: kin.v,
+            vr: kin.vr,
+            ds,
+            f,
+            drive: kin.drive,
         };
-        let kin = |tt: f64, u: &[f64; M]| Kin::at(sys, &relax, tt, &u[..N]);
-        let rhs = |tt: f64, u: &[f64; M]| rhs_with(u, V::read(&u[..V::DIM]), &kin(tt, u));
-        // What a deformation error pushes into the body per unit of time, on the scale of the
-        // errors: `(k_t/m)·(s_nom + |s|)/v_nom`, the velocity's nominal the body's last
-        // component's; Dahl's contact only (`weigh`).
-        // (RigTransverse at tolerance 1e-6, 0.1 s: 42.4 steps per period against 49.4 with the
-        // deformation's own error, `F_Fx` 1.3e-8 and `F_Fy` 2.2e-6 of `F_C` from Radau at
-        // 1e-11 against 3.7e-8 and 5.9e-6.)
-        let weigh = dynamics.law.relaxation().is_some() && tol <= WEIGH_UP_TO;
-        let push = run.push * (scale[0] + dynamics.law.envelope()) / scale[N - 1];
-        let mut t = t;
-        let mut u = [0.0; M];
-        u[..N].copy_from_slice(y);
-        let mut integral = [0.0; 2];
-        let mut h = run.h;
-        let mut fsal: Option<[f64; M]> = None;
-        let mut rejected = false;
-        // The end of a step retaken to end just past a sign change of `v_rx` on the x axis.
-        // With whether it was located on an accepted step's extension.
-        let mut cut: Option<(f64, bool)> = None;
-        let stats = &mut run.stats;
-        // In one dimension the support velocity at the stage times by rotations of the harmonic
-        // phase, as on the 1-D path: two sines and cosines per attempt rather than a cosine at
-        // each of its six stages.
-        let mut support = (V::DIM == 1).then(|| StageSupport::new(dynamics, sys.input_support, t));
-        while t < t_target {
-            if stats.steps + stats.rejected >= limit {
-                return Err(SimError::Solver(SolverError::WorkLimit {
-                    t,
-                    limit: limit as f64,
-                }));
+        let r = sys.rhs_at::<N>(&e, &u[..N]);
+        let mut out = [0.0; M];
+        out[..N].copy_from_slice(r.as_slice());
+        out[N] = f.x();
+        if V::DIM == 2 {
+            out[N + 1] = f.y();
+        }
+        out[il] = kin.terms.decay;
+        out
+    };
+    let kin = |tt: f64, u: &[f64; M]| Kin::at(sys, &relax, tt, &u[..N]);
+    let rhs = |tt: f64, u: &[f64; M]| rhs_with(u, V::read(&u[..V::DIM]), &kin(tt, u));
+    // What a deformation error pushes into the body per unit of time, on the scale of the
+    // errors: `(k_t/m)·(s_nom + |s|)/v_nom`, the velocity's nominal the body's last
+    // component's; Dahl's contact only (`weigh`).
+    // (RigTransverse at tolerance 1e-6, 0.1 s: 42.4 steps per period against 49.4 with the
+    // deformation's own error, `F_Fx` 1.3e-8 and `F_Fy` 2.2e-6 of `F_C` from Radau at
+    // 1e-11 against 3.7e-8 and 5.9e-6.)
+    let weigh = dynamics.law.relaxation().is_some() && tol <= WEIGH_UP_TO;
+    let push = run.push * (scale[0] + dynamics.law.envelope()) / scale[N - 1];
+    let mut t = t;
+    let mut u = [0.0; M];
+    u[..N].copy_from_slice(y);
+    let mut integral = [0.0; 2];
+    let mut h = run.h;
+    let mut fsal: Option<[f64; M]> = None;
+    let mut rejected = false;
+    // The end of a step retaken to end just past a sign change of `v_rx` on the x axis.
+    // With whether it was located on an accepted step's extension.
+    let mut cut: Option<(f64, bool)> = None;
+    let stats = &mut run.stats;
+    // In one dimension the support velocity at the stage times by rotations of the harmonic
+    // phase, as on the 1-D path: two sines and cosines per attempt rather than a cosine at
+    // each of its six stages.
+    let mut support = (V::DIM == 1).then(|| StageSupport::new(dynamics, sys.input_support, t));
+    while t < t_target {
+        if stats.steps + stats.rejected >= limit {
+            return Err(SimError::Solver(SolverError::WorkLimit {
+                t,
+                limit: limit as f64,
+            }));
+        }
+        u[N..].fill(0.0);
+        let k1 = match fsal {
+            Some(k) => k,
+            None => {
+                stats.rhs_evals += 1;
+                rhs(t, &u)
             }
-            u[N..].fill(0.0);
-            let k1 = match fsal {
-                Some(k) => k,
-                None => {
-                    stats.rhs_evals += 1;
-                    rhs(t, &u)
-                }
-            };
-            if !k1.iter().all(|z| z.is_finite()) {
-                return Err(SimError::Solver(SolverError::NonFinite { t }));
+        };
+        if !k1.iter().all(|z| z.is_finite()) {
+            return Err(SimError::Solver(SolverError::NonFinite { t }));
+        }
+        if h <= 0.0 {
+            let d = (0..N)
+                .map(|i| (k1[i] / scale[i]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            h = first_step(d, tol, h_max);
+        }
+        let mut hh = h.min(h_max);
+        let mut last = false;
+        if let Some((te, _)) = cut {
+            hh = te - t;
+        } else if t + 1.0001 * hh >= t_target {
+            hh = t_target - t;
+            last = true;
+        }
+        if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
+            return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
+        }
+        let stage_support = support.as_ref().map(|s| s.stages(t, hh));
+        // What the right-hand side needs at stage `i` of the step, time `tt`.
+        let kin_stage = |i: usize, tt: f64, y: &[f64; M]| match &stage_support {
+            Some((w, _)) => Kin::with_support(sys, &relax, tt, &y[..N], V::from_xy(w[i], 0.0)),
+            None => kin(tt, y),
+        };
+        // `v_r` at the step's start.
+        let vr_start = || match &stage_support {
+            Some((w, _)) => {
+                let d = sys.dynamics.drive_inputs(t);
+                sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - V::from_xy(w[0], 0.0)
             }
-            if h <= 0.0 {
-                let d = (0..N)
-                    .map(|i| (k1[i] / scale[i]).powi(2))
-                    .sum::<f64>()
-                    .sqrt();
-                h = first_step(d, tol, h_max);
+            None => relative_velocity::<V, L, D, N, M>(sys, t, &u),
+        };
+        // The largest scaled error of the deformation's components, and of the rest.
+        let mut err_s: f64 = 0.0;
+        let mut err: f64 = 0.0;
+        // `v_r` at the stages of the step taken (of its last pass).
+        let mut vr_at = [V::default(); 7];
+        let exponential = k1[il] * hh >= exponential_from;
+        // Where a stiff Dahl contact's deformation is certified on its slow manifold, the
+        // body alone (`coulomb_limit.rs`), the step cut to the start's reach (no sign change
+        // of `v_r` within it); else the exponential step.
+        let start = match &manifold {
+            Some(m) if exponential && cut.is_none() => {
+                m.start::<N>(t, &u).filter(|st| st.reach >= REACH_CUT * hh)
             }
-            let mut hh = h.min(h_max);
-            let mut last = false;
-            if let Some((te, _)) = cut {
-                hh = te - t;
-            } else if t + 1.0001 * hh >= t_target {
-                hh = t_target - t;
-                last = true;
+            _ => None,
+        };
+        if let Some(st) = &start {
+            if st.reach < hh {
+                hh = st.reach;
+                last = false;
             }
-            if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
-                return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
+        }
+        let mut limit_evals = 0;
+        let on_limit = match (&manifold, &start) {
+            (Some(m), Some(st)) => m.step::<N, M>(st, t, &u, &k1, hh, |i, tt, y, s| {
+                limit_evals += 1;
+                let k = kin(tt, y);
+                vr_at[i] = k.vr;
+                rhs_with(y, s, &k)
+            }),
+            _ => None,
+        };
+        let limited = on_limit.is_some();
+        // A step on the manifold counts its stages below with every other step's; an
+        // attempt the certificate refused, and a first stage moved onto the manifold, here.
+        stats.rhs_evals += limit_evals - if limited { 6 } else { 0 };
+        let (step, mut u1) = if let Some((step, u1)) = on_limit {
+            // The deformation's error: the manifold's under the body's.
+            for c in 0..V::DIM {
+                let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
+                err = err.max((step.err[c] / w).abs());
             }
-            let stage_support = support.as_ref().map(|s| s.stages(t, hh));
-            // What the right-hand side needs at stage `i` of the step, time `tt`.
-            let kin_stage = |i: usize, tt: f64, y: &[f64; M]| match &stage_support {
-                Some((w, _)) => Kin::with_support(sys, &relax, tt, &y[..N], V::from_xy(w[i], 0.0)),
-                None => kin(tt, y),
-            };
-            // `v_r` at the step's start.
-            let vr_start = || match &stage_support {
-                Some((w, _)) => {
-                    let d = sys.dynamics.drive_inputs(t);
-                    sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - V::from_xy(w[0], 0.0)
-                }
-                None => relative_velocity::<V, L, D, N, M>(sys, t, &u),
-            };
-            // The largest scaled error of the deformation's components, and of the rest.
-            let mut err_s: f64 = 0.0;
-            let mut err: f64 = 0.0;
-            // `v_r` at the stages of the step taken (of its last pass).
-            let mut vr_at = [V::default(); 7];
-            let exponential = k1[il] * hh >= exponential_from;
-            // Where a stiff Dahl contact's deformation is certified on its slow manifold, the
-            // body alone (`coulomb_limit.rs`), the step cut to the start's reach (no sign change
-            // of `v_r` within it); else the exponential step.
-            let start = match &manifold {
-                Some(m) if exponential && cut.is_none() => {
-                    m.start::<N>(t, &u).filter(|st| st.reach >= REACH_CUT * hh)
-                }
-                _ => None,
-            };
-            if let Some(st) = &start {
-                if st.reach < hh {
-                    hh = st.reach;
-                    last = false;
-                }
-            }
-            let on_limit = match (&manifold, &start) {
-                (Some(m), Some(st)) => m.step::<N, M>(st, t, &u, &k1, hh, |i, tt, y, s| {
-                    let k = kin(tt, y);
+            (step, u1)
+        } else if exponential {
+            // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
+            // the target `q = s_ss·v_r/|v_r|` interpolated in λ through the stages so far
+            // (their λ from the method's own stages of `dλ/dt = |v_r|/s_ss`): exact for
+            // that polynomial whatever the relaxation over the step.
+            let s0 = [u[0], if V::DIM == 2 { u[1] } else { 0.0 }];
+            let mut hist = Stages::new(s0, kin(t, &u).target(), 1);
+            let step = {
+                let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
+                    let i = hist.n;
+                    hist.n += 1;
+                    hist.lam[i] = y[il];
+                    let k = kin_stage(i, tt, y);
+                    hist.q[i] = k.target();
                     vr_at[i] = k.vr;
-                    rhs_with(y, s, &k)
-                }),
-                _ => None,
+                    let s_i = match i {
+                        1 => hist.relax([0, 1]),
+                        2 => hist.relax([0, 1, 2]),
+                        3 => hist.relax([0, 1, 2, 3]),
+                        4 => hist.relax([0, 1, 2, 3, 4]),
+                        5 => hist.relax([0, 1, 2, 3, 4, 5]),
+                        _ => hist.relax([0, 1, 2, 3, 4, 6]),
+                    };
+                    rhs_with(y, V::read(&s_i[..V::DIM]), &k)
+                };
+                DoPriStep::take(&mut stage, t, &u, &k1, hh)
             };
-            let limited = on_limit.is_some();
-            let (step, mut u1) = if let Some((step, u1)) = on_limit {
-                // The deformation's error: the manifold's under the body's.
-                for c in 0..V::DIM {
-                    let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
-                    err = err.max((step.err[c] / w).abs());
-                }
-                (step, u1)
-            } else if exponential {
-                // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
-                // the target `q = s_ss·v_r/|v_r|` interpolated in λ through the stages so far
-                // (their λ from the method's own stages of `dλ/dt = |v_r|/s_ss`): exact for
-                // that polynomial whatever the relaxation over the step.
-                let s0 = [u[0], if V::DIM == 2 { u[1] } else { 0.0 }];
-                let mut hist = Stages::new(s0, kin(t, &u).target(), 1);
-                let step = {
+            // The stages' velocities are of low order: a second pass with the deformation
+            // at each stage from the first pass's continuous extension (q at six
+            // equidistant points, the ends exact, λ from the same extension).
+            let dense = step.dense_all(hh);
+            let mut first = nodes::<V, N, M>(&step, &dense, hist.s0, hist.q[0], |theta, z| {
+                kin(t + theta * hh, z).target()
+            });
+            first.bad |= hist.bad;
+            let fit = first.fit([0, 1, 2, 3, 4, 5]);
+            let big = first.lam[5];
+            let step = match &fit {
+                Some(fit) => {
+                    let (mut i, mut stage2) = (1, [0.0; 7]);
+                    for (k, c) in C.iter().enumerate() {
+                        stage2[k] = dense.at(il, *c) / big;
+                    }
                     let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
-                        let i = hist.n;
-                        hist.n += 1;
-                        hist.lam[i] = y[il];
-                        let k = kin_stage(i, tt, y);
-                        hist.q[i] = k.target();
-                        vr_at[i] = k.vr;
-                        let s_i = match i {
-                            1 => hist.relax([0, 1]),
-                            2 => hist.relax([0, 1, 2]),
-                            3 => hist.relax([0, 1, 2, 3]),
-                            4 => hist.relax([0, 1, 2, 3, 4]),
-                            5 => hist.relax([0, 1, 2, 3, 4, 5]),
-                            _ => hist.relax([0, 1, 2, 3, 4, 6]),
-                        };
+                        let s_i = fit.at(stage2[i]);
+                        i += 1;
+                        let k = kin_stage(i - 1, tt, y);
+                        vr_at[i - 1] = k.vr;
                         rhs_with(y, V::read(&s_i[..V::DIM]), &k)
                     };
+                    stats.rhs_evals += 6;
                     DoPriStep::take(&mut stage, t, &u, &k1, hh)
-                };
-                // The stages' velocities are of low order: a second pass with the deformation
-                // at each stage from the first pass's continuous extension (q at six
-                // equidistant points, the ends exact, λ from the same extension).
-                let dense = step.dense_all(hh);
-                let mut first = nodes::<V, N, M>(&step, &dense, hist.s0, hist.q[0], |theta, z| {
-                    kin(t + theta * hh, z).target()
-                });
-                first.bad |= hist.bad;
-                let fit = first.fit([0, 1, 2, 3, 4, 5]);
-                let big = first.lam[5];
-                let step = match &fit {
-                    Some(fit) => {
-                        let (mut i, mut stage2) = (1, [0.0; 7]);
-                        for (k, c) in C.iter().enumerate() {
-                            stage2[k] = dense.at(il, *c) / big;
+                }
+                None => step,
+            };
+            let mut u1 = step.end();
+            let dense = step.dense_all(hh);
+            let mut fine = nodes::<V, N, M>(&step, &dense, hist.s0, hist.q[0], |theta, z| {
+                kin(t + theta * hh, z).target()
+            });
+            fine.bad |= first.bad;
+            let s5 = fine.relax([0, 1, 2, 3, 4, 5]);
+            let s4 = fine.relax([0, 2, 3, 4, 5]);
+            let bad = fine.bad;
+            u1[..V::DIM].copy_from_slice(&s5[..V::DIM]);
+            for c in 0..V::DIM {
+                let w = rtol * (scale[c] + u[c].abs().max(s5[c].abs()));
+                err_s = err_s.max((s5[c] - s4[c]).abs() / w);
+            }
+            // λ places the interpolation's nodes: its error relative to the step's λ.
+            err = err.max(step.err[il].abs() / (rtol * u1[il].max(1.0)));
+            if bad {
+                err = f64::INFINITY;
+            }
+            (step, u1)
+        } else {
+            let mut stage = |i: usize, tt: f64, y: &[f64; M]| -> [f64; M] {
+                let k = kin_stage(i, tt, y);
+                vr_at[i] = k.vr;
+                rhs_with(y, V::read(&y[..V::DIM]), &k)
+            };
+            let step = DoPriStep::take_staged(&mut stage, t, &u, &k1, hh);
+            let u1 = step.end();
+            for c in 0..V::DIM {
+                let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
+                err_s = err_s.max((step.err[c] / w).abs());
+            }
+            (step, u1)
+        };
+        stats.rhs_evals += 6;
+        for i in V::DIM..N {
+            let w = rtol * (scale[i] + u[i].abs().max(u1[i].abs()));
+            err = err.max((step.err[i] / w).abs());
+        }
+        // Short of the call's end a plain step's deformation error counts by what it
+        // leaves ([`settled`]; Dahl's: LuGre's force also takes the deformation's rate).
+        // An exponential step's is the interpolation's, in the force all along the step.
+        if !last && !exponential && weigh {
+            err_s = settled(
+                err_s,
+                (k1[il], step.k[6][il]),
+                hh,
+                t_target - (t + hh),
+                push,
+            );
+        }
+        let err = err.max(err_s);
+        let err = if u1.iter().all(|z| z.is_finite()) && err.is_finite() {
+            err
+        } else {
+            f64::INFINITY
+        };
+        // On the x axis (no lateral relative velocity) `|v_r|`, and with it the rates, has a
+        // kink wherever `v_rx` changes sign, on which the error estimate of a step across it
+        // is not to be trusted: the step is retaken to end just past the sign change
+        // (located on the continuous extension), so that the kink falls between steps. A
+        // step that ends on a sign change located on a rejected step's extension is checked
+        // again.
+        let crossing = if cut.is_none_or(|(_, trusted)| !trusted) {
+            let vr0 = vr_start();
+            let sigma = vr0.x().signum();
+            let vr_i = |i: usize| if i == 0 { vr0 } else { vr_at[i] };
+            let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
+            let g = |i: usize| sigma * vr_i(i).x();
+            match (1..7).find(|&i| g(i) < 0.0) {
+                Some(i) if vr0.x() != 0.0 && on_axis => {
+                    let end = step.end();
+                    let dense = step.dense_all(hh);
+                    let gd = |theta: f64| {
+                        let mut z = end;
+                        for (j, zj) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
+                            *zj = dense.at(j, theta);
                         }
-                        let mut stage = |tt: f64, y: &[f64; M]| -> [f64; M] {
-                            let s_i = fit.at(stage2[i]);
-                            i += 1;
-                            let k = kin_stage(i - 1, tt, y);
-                            vr_at[i - 1] = k.vr;
-                            rhs_with(y, V::read(&s_i[..V::DIM]), &k)
-                        };
-                        stats.rhs_evals += 6;
-                        DoPriStep::take(&mut stage, t, &u, &k1, hh)
-                    }
-                    None => step,
-                };
-                let mut u1 = step.end();
-                let dense = step.dense_all(hh);
-                let mut fine = nodes::<V, N, M>(&step, &dense, hist.s0, hist.q[0], |theta, z| {
-                    kin(t + theta * hh, z).target()
-                });
-                fine.bad |= first.bad;
-                let s5 = fine.relax([0, 1, 2, 3, 4, 5]);
-                let s4 = fine.relax([0, 2, 3, 4, 5]);
-                let bad = fine.bad;
-                u1[..V::DIM].copy_from_slice(&s5[..V::DIM]);
-                for c in 0..V::DIM {
-                    let w = rtol * (scale[c] + u[c].abs().max(s5[c].abs()));
-                    err_s = err_s.max((s5[c] - s4[c]).abs() / w);
-                }
-                // λ places the interpolation's nodes: its error relative to the step's λ.
-                err = err.max(step.err[il].abs() / (rtol * u1[il].max(1.0)));
-                if bad {
-                    err = f64::INFINITY;
-                }
-                (step, u1)
-            } else {
-                let mut stage = |i: usize, tt: f64, y: &[f64; M]| -> [f64; M] {
-                    let k = kin_stage(i, tt, y);
-                    vr_at[i] = k.vr;
-                    rhs_with(y, V::read(&y[..V::DIM]), &k)
-                };
-                let step = DoPriStep::take_staged(&mut stage, t, &u, &k1, hh);
-                let u1 = step.end();
-                for c in 0..V::DIM {
-                    let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
-                    err_s = err_s.max((step.err[c] / w).abs());
-                }
-                (step, u1)
-            };
-            stats.rhs_evals += 6;
-            for i in V::DIM..N {
-                let w = rtol * (scale[i] + u[i].abs().max(u1[i].abs()));
-                err = err.max((step.err[i] / w).abs());
-            }
-            // Short of the call's end a plain step's deformation error counts by what it
-            // leaves ([`settled`]; Dahl's: LuGre's force also takes the deformation's rate).
-            // An exponential step's is the interpolation's, in the force all along the step.
-            if !last && !exponential && weigh {
-                err_s = settled(
-                    err_s,
-                    (k1[il], step.k[6][il]),
-                    hh,
-                    t_target - (t + hh),
-                    push,
-                );
-            }
-            let err = err.max(err_s);
-            let err = if u1.iter().all(|z| z.is_finite()) && err.is_finite() {
-                err
-            } else {
-                f64::INFINITY
-            };
-            // On the x axis (no lateral relative velocity) `|v_r|`, and with it the rates, has a
-            // kink wherever `v_rx` changes sign, on which the error estimate of a step across it
-            // is not to be trusted: the step is retaken to end just past the sign change
-            // (located on the continuous extension), so that the kink falls between steps. A
-            // step that ends on a sign change located on a rejected step's extension is checked
-            // again.
-            let crossing = if cut.is_none_or(|(_, trusted)| !trusted) {
-                let vr0 = vr_start();
-                let sigma = vr0.x().signum();
-                let vr_i = |i: usize| if i == 0 { vr0 } else { vr_at[i] };
-                let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
-                let g = |i: usize| sigma * vr_i(i).x();
-                match (1..7).find(|&i| g(i) < 0.0) {
-                    Some(i) if vr0.x() != 0.0 && on_axis => {
-                        let end = step.end();
-                        let dense = step.dense_all(hh);
-                        let gd = |theta: f64| {
-                            let mut z = end;
-                            for (j, zj) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
-                                *zj = dense.at(j, theta);
-                            }
-                            sigma * relative_velocity::<V, L, D, N, M>(sys, t + theta * hh, &z).x()
-                        };
-                        let (ga, gb) = (g(i - 1).max(0.0), g(i));
-                        // Just past the sign change: within 1e-9 of the bracket's swing.
-                        let theta = super::explicit::root(
-                            &gd,
-                            (C[i - 1], ga),
-                            (C[i], gb),
-                            1e-9 * (ga - gb),
-                        );
-                        let te = t + theta * hh;
-                        (theta < 1.0 && te > t + 16.0 * f64::EPSILON * t.abs().max(hh))
-                            .then_some(te)
-                    }
-                    _ => None,
-                }
-            } else {
-                None
-            };
-            if err > 1.0 {
-                stats.rejected += 1;
-                h = hh * factor(err).min(0.9);
-                rejected = true;
-                // A sign change within the next step: the next step ends just past it.
-                cut = crossing.filter(|&te| te - t <= h).map(|te| (te, false));
-                fsal = Some(k1);
-                continue;
-            }
-            if let Some(te) = crossing {
-                cut = Some((te, true));
-                h = hh;
-                fsal = Some(k1);
-                continue;
-            }
-            stats.steps += 1;
-            stats.limit_steps += limited as u64;
-            // A step that ends on a sign change of `v_rx` may end a little short of it, by the
-            // error of the continuous extension it was located on: the next step then bridges
-            // the rest, twice the time `v_rx` takes to vanish at its rate at the end, where that
-            // is a sliver of the step ([`BRIDGE`]).
-            let bridge = match cut {
-                Some(_) if !last => {
-                    let vr0 = vr_start().x();
-                    let vr1 = vr_at[6].x();
-                    let dvr = (vr1 - vr_at[4].x()) / ((1.0 - C[4]) * hh);
-                    let b = -2.0 * vr1 / dvr;
-                    // At least a few units of the time's resolution.
-                    let b = (b > 0.0).then(|| b.max(64.0 * f64::EPSILON * (t + hh).abs()));
-                    b.filter(|&b| vr0 * vr1 > 0.0 && b <= BRIDGE * hh && t + hh + b < t_target)
-                        .map(|b| t + hh + b)
+                        sigma * relative_velocity::<V, L, D, N, M>(sys, t + theta * hh, &z).x()
+                    };
+                    let (ga, gb) = (g(i - 1).max(0.0), g(i));
+                    // Just past the sign change: within 1e-9 of the bracket's swing.
+                    let theta =
+                        super::explicit::root(&gd, (C[i - 1], ga), (C[i], gb), 1e-9 * (ga - gb));
+                    let te = t + theta * hh;
+                    (theta < 1.0 && te > t + 16.0 * f64::EPSILON * t.abs().max(hh)).then_some(te)
                 }
                 _ => None,
-            };
-            u1[il] = 0.0;
-            integral[0] += u1[N];
-            if V::DIM == 2 {
-                integral[1] += u1[N + 1];
             }
-            u = u1;
-            if let (Some(s), Some((_, turn))) = (support.as_mut(), stage_support) {
-                s.turn(turn);
-            }
-            // After an exponential step the end's deformation is not the last stage's (after a
-            // step on the manifold it is).
-            fsal = (!exponential || limited).then_some(step.k[6]);
-            t = if last { t_target } else { t + hh };
-            // |s| ≤ s_ss holds for the equation; the step may overshoot it by its error.
-            if let Some(b) = bound {
-                let s = V::read(&u[..V::DIM]);
-                let n = s.norm();
-                if n > b {
-                    (s * (b / n)).write(&mut u[..V::DIM]);
-                    fsal = None;
-                }
-            }
-            // The plain controller. Gustafsson's proportional-integral one (DOPRI5's, with the
-            // last accepted error to the power β) was measured on VibratingContactLuGre at
-            // `k_t` = 1e8, tolerance 1e-6: it cut the rejections per period from 10.1 to 6.2
-            // (β = 0.04) and 3.9 (0.08) but took more steps (41 to 46 and 57), more attempts in
-            // all and more time; β = 0.02 likewise (44 steps, 8.9 rejections). After a step
-            // clipped to the target or a sign change, keeping the step size proposed before it
-            // (instead of the larger of it and the clipped step's) also cost more (42.6 steps).
-            let mut h_new = hh * factor(err);
-            if rejected {
-                h_new = h_new.min(hh);
-            }
-            rejected = false;
-            if (last || cut.is_some()) && hh < h {
-                // A step clipped to the target or to a sign change says little about the size.
-                h_new = h_new.max(h);
-            }
-            cut = bridge.map(|te| (te, true));
-            h = h_new;
+        } else {
+            None
+        };
+        if err > 1.0 {
+            stats.rejected += 1;
+            h = hh * factor(err).min(0.9);
+            rejected = true;
+            // A sign change within the next step: the next step ends just past it.
+            cut = crossing.filter(|&te| te - t <= h).map(|te| (te, false));
+            fsal = Some(k1);
+            continue;
         }
-        y.copy_from_slice(&u[..N]);
-        run.h = h;
-        Ok(integral)
+        if let Some(te) = crossing {
+            cut = Some((te, true));
+            h = hh;
+            fsal = Some(k1);
+            continue;
+        }
+        stats.steps += 1;
+        stats.limit_steps += limited as u64;
+        // A step that ends on a sign change of `v_rx` may end a little short of it, by the
+        // error of the continuous extension it was located on: the next step then bridges
+        // the rest, twice the time `v_rx` takes to vanish at its rate at the end, where that
+        // is a sliver of the step ([`BRIDGE`]).
+        let bridge = match cut {
+            Some(_) if !last => {
+                let vr0 = vr_start().x();
+                let vr1 = vr_at[6].x();
+                let dvr = (vr1 - vr_at[4].x()) / ((1.0 - C[4]) * hh);
+                let b = -2.0 * vr1 / dvr;
+                // At least a few units of the time's resolution.
+                let b = (b > 0.0).then(|| b.max(64.0 * f64::EPSILON * (t + hh).abs()));
+                b.filter(|&b| vr0 * vr1 > 0.0 && b <= BRIDGE * hh && t + hh + b < t_target)
+                    .map(|b| t + hh + b)
+            }
+            _ => None,
+        };
+        u1[il] = 0.0;
+        integral[0] += u1[N];
+        if V::DIM == 2 {
+            integral[1] += u1[N + 1];
+        }
+        u = u1;
+        if let (Some(s), Some((_, turn))) = (support.as_mut(), stage_support) {
+            s.turn(turn);
+        }
+        // After an exponential step the end's deformation is not the last stage's (after a
+        // step on the manifold it is).
+        fsal = (!exponential || limited).then_some(step.k[6]);
+        t = if last { t_target } else { t + hh };
+        // |s| ≤ s_ss holds for the equation; the step may overshoot it by its error.
+        if let Some(b) = bound {
+            let s = V::read(&u[..V::DIM]);
+            let n = s.norm();
+            if n > b {
+                (s * (b / n)).write(&mut u[..V::DIM]);
+                fsal = None;
+            }
+        }
+        // The plain controller. Gustafsson's proportional-integral one (DOPRI5's, with the
+        // last accepted error to the power β) was measured on VibratingContactLuGre at
+        // `k_t` = 1e8, tolerance 1e-6: it cut the rejections per period from 10.1 to 6.2
+        // (β = 0.04) and 3.9 (0.08) but took more steps (41 to 46 and 57), more attempts in
+        // all and more time; β = 0.02 likewise (44 steps, 8.9 rejections). After a step
+        // clipped to the target or a sign change, keeping the step size proposed before it
+        // (instead of the larger of it and the clipped step's) also cost more (42.6 steps).
+        let mut h_new = hh * factor(err);
+        if rejected {
+            h_new = h_new.min(hh);
+        }
+        rejected = false;
+        if (last || cut.is_some()) && hh < h {
+            // A step clipped to the target or to a sign change says little about the size.
+            h_new = h_new.max(h);
+        }
+        cut = bridge.map(|te| (te, true));
+        h = h_new;
     }
+    y.copy_from_slice(&u[..N]);
+    run.h = h;
+    Ok(integral)
 }
 
 /// λ and `q` at six equidistant points of a step from its continuous extension `dense`
