@@ -743,3 +743,37 @@ impl StageSupport {
         self.phase = rot(self.phase, whole);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Branch;
+    use crate::physics::ElastoPlastic;
+
+    /// What a branch leaves of a deformation error after a further relative displacement: Dahl's
+    /// relaxation `exp(−reach/s_ss)` (none beyond 40 `s_ss`); Dupont's elastic room all of it,
+    /// then its plastic part's `exp(−(reach − room)/s_ss)`.
+    #[test]
+    fn a_branch_keeps_what_its_relaxation_leaves() {
+        let len = 1.1e-7;
+        let dahl = Branch::new(-len, 1.0, len, None);
+        for reach in [0.0, 0.5, 3.0, 30.0, 39.0] {
+            let (kept, want) = (dahl.kept(0.0, reach * len), (-reach).exp());
+            assert!(
+                (kept - want).abs() <= 1e-14 * want,
+                "{reach}: {kept} vs {want}"
+            );
+        }
+        assert_eq!(dahl.kept(0.0, 41.0 * len), 0.0);
+        // From the other branch's steady state, p0 = −1: the elastic room to r_ba = 0.5 is 1.5.
+        let shape = ElastoPlastic::new(0.5).unwrap();
+        let dupont = Branch::new(-len, 1.0, len, Some(&shape));
+        assert_eq!(dupont.room(), Some(1.5));
+        assert_eq!(dupont.kept(0.0, 1.5 * len), 1.0);
+        let beyond = dupont.kept(0.0, 2.5 * len);
+        assert!((beyond - (-1.0f64).exp()).abs() <= 1e-14, "{beyond}");
+        // A step on: 1 s_ss of the room used, 0.5 left.
+        assert_eq!(dupont.kept(len, 0.5 * len), 1.0);
+        let on = dupont.kept(len, 1.5 * len);
+        assert!((on - (-1.0f64).exp()).abs() <= 1e-14, "{on}");
+    }
+}

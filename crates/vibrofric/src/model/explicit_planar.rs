@@ -946,3 +946,38 @@ fn settled(err_s: f64, (r0, r1): (f64, f64), h: f64, ahead: f64, push: f64) -> f
     };
     (err_s * left).max(pushed)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::settled;
+
+    /// The weighed deformation error is never above the error itself, is the error where there
+    /// is no rate to weigh by, and otherwise the larger of what the body keeps
+    /// (`push·(h + 1/rate)` of it) and what is left at the call's end (`exp(−rate·ahead)` of
+    /// it), with the relaxation ahead cut where the rate would vanish.
+    #[test]
+    fn settled_weighs_by_what_the_error_leaves() {
+        let (err, h, push) = (0.8, 1e-5, 50.0);
+        // No rate (a body at rest relative to the support) or none defined: the error as is.
+        assert_eq!(settled(err, (0.0, 0.0), h, 1e-3, push), err);
+        assert_eq!(settled(err, (f64::NAN, f64::NAN), h, 1e-3, push), err);
+        // A steady rate of 2e4/s, 1e-4 s ahead: λ = 2, the push 50·(1e-5 + 5e-5) = 3e-3.
+        let w = settled(err, (2e4, 2e4), h, 1e-4, push);
+        let want = (err * (-2.0f64).exp()).max(err * push * (h + 1.0 / 2e4));
+        assert!((w - want).abs() <= 1e-14 * want, "{w} vs {want}");
+        // Far ahead the push alone.
+        let w = settled(err, (2e4, 2e4), h, 1.0, push);
+        assert!((w - err * push * 6e-5).abs() <= 1e-15, "{w}");
+        // A rate falling by 1e9/s from 2e4 vanishes in 2e-5 s: λ ≤ 2e4²/(2·1e9) = 0.2 however
+        // far the call's end.
+        let w = settled(err, (2e4 + 1e4, 2e4), h, 1.0, push);
+        assert!((w - err * (-0.2f64).exp()).abs() <= 1e-14, "{w}");
+        // Where the push is the larger, the error as is.
+        assert_eq!(settled(err, (10.0, 10.0), h, 1.0, push), err);
+        for rates in [(1.0, 1e9), (1e9, 1.0), (3e3, 3e3)] {
+            for ahead in [0.0, 1e-6, 1e-3] {
+                assert!(settled(err, rates, h, ahead, push) <= err);
+            }
+        }
+    }
+}
