@@ -313,6 +313,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             let step = DoPriStep::take_staged(&mut rhs, t, &u0, &k1, hh);
             stats.rhs_evals += 6;
             let u1 = step.end();
+            // `dv_r/dt` at the step's end, from the last two stages' `v_r`.
+            let vr_rate_end = || (step.k[6][0] - step.k[4][0]) / ((1.0 - C[4]) * hh);
             let slope = branch.slope(u1[0]);
             let v_scale = nom_v + v.abs().max(u1[2].abs());
             let mut e_s = step.err[0] * slope / (rtol * (nom_s + s0.abs()));
@@ -324,16 +326,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 // takes to relax); what is left of it at the call's end, after the relative
                 // displacement `reach` still ahead (up to a reversal), is its share of the
                 // output's error there.
-                let (vr, ar) = (
-                    step.k[6][0],
-                    (step.k[6][0] - step.k[4][0]) / ((1.0 - C[4]) * hh),
-                );
-                let ahead = t_target - (t + hh);
-                let reach = if sigma * ar >= 0.0 {
-                    vr.abs() * ahead
-                } else {
-                    (vr.abs() * ahead).min(0.5 * vr * vr / ar.abs())
-                };
+                let (vr, ar) = (step.k[6][0], vr_rate_end());
+                let reach = reach_ahead(vr.abs(), sigma * ar, t_target - (t + hh));
                 let pushed =
                     PUSH_MARGIN * step.err[0] * k_t * inv_m * (sigma * len - s_at[6]).abs()
                         / (vr.abs() * rtol * v_scale);
@@ -425,8 +419,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 // The new branch relaxes over one s_ss of relative displacement, which from
                 // rest takes sqrt(2·s_ss/|dv_r/dt|): the first step a fraction of that (a
                 // stiff contact would otherwise pay for it in rejected steps).
-                let dvr = (step.k[6][0] - step.k[4][0]) / ((1.0 - C[4]) * hh);
-                let relax = RELAX_FIRST * (2.0 * len / dvr.abs()).sqrt();
+                let relax = RELAX_FIRST * (2.0 * len / vr_rate_end().abs()).sqrt();
                 if relax.is_finite() && relax > 0.0 {
                     h_new = h_new.min(relax);
                 }
@@ -446,6 +439,20 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.exp_h = h;
         self.direction = sigma;
         Ok([integral, 0.0])
+    }
+}
+
+/// How far a positive quantity, now `x` and changing at `rate`, integrates over the time
+/// `ahead`: `x·ahead`, or where it falls, at most what it integrates to before it would vanish
+/// at that rate, `x²/(2·|rate|)`. On the explicit paths, the relative displacement (`x = |v_r|`)
+/// or the relaxation arc length (`x = |v_r|/s_ss`) still ahead of a call's end, short of a
+/// reversal.
+#[inline(always)]
+pub(super) fn reach_ahead(x: f64, rate: f64, ahead: f64) -> f64 {
+    if rate >= 0.0 {
+        x * ahead
+    } else {
+        (x * ahead).min(0.5 * x * x / -rate)
     }
 }
 

@@ -43,7 +43,7 @@ use super::coulomb_limit::Limit;
 use super::drive::{Axial, DriveInputs, DriveKind};
 use super::dynamics::{Dynamics, Eval, System};
 use super::explicit::StageSupport;
-use super::explicit::{PUSH_MARGIN, WEIGH_UP_TO};
+use super::explicit::{reach_ahead, PUSH_MARGIN, WEIGH_UP_TO};
 use super::simulator::SimError;
 use crate::physics::{trig, FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
@@ -926,12 +926,7 @@ fn exp_neg(z: f64) -> f64 {
 /// change), is its share of the outputs' error there.
 fn settled(err_s: f64, (r0, r1): (f64, f64), h: f64, ahead: f64, push: f64) -> f64 {
     let rate = r0.min(r1);
-    let change = (r1 - r0) / h;
-    let lambda = if change >= 0.0 {
-        r1 * ahead
-    } else {
-        (r1 * ahead).min(0.5 * r1 * r1 / -change)
-    };
+    let lambda = reach_ahead(r1, (r1 - r0) / h, ahead);
     let pushed = err_s * push * (h + 1.0 / rate);
     // Nothing to weigh off (or no rate to weigh by, `pushed` then NaN or infinite).
     let weighs = pushed < err_s && lambda.is_finite();
