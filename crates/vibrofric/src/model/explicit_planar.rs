@@ -109,8 +109,17 @@ pub(super) const STIFF_LIMIT: f64 = 1000.0;
 /// at the same tolerance (VibratingContactLuGre against Radau at 1e-12, 0.05 s, at `k_t` = 1e8
 /// to 1e10, where the product is 4.2 to 42 at 2 kHz: at 1e-10, `F_Fx` 1.4e-11 to 8.5e-11 of `F_C` against
 /// Radau's 5e-11 to 3.5e-9); at 1e11 (134) the window means of the exponential steps were 9
-/// times less accurate than Radau's at 1e-10, and Radau takes such contacts.
+/// times less accurate than Radau's at 1e-10, and Radau takes such contacts off the x axis.
+/// On the axis the path keeps them, the sliding on the slow manifold (`coulomb_limit.rs`):
+/// there its `F_Fx` was more accurate than Radau's at the same tolerance (1e-6 to 1e-8 at
+/// `k_t` = 1e11 and 1e12) and its cost 3.6 times less at 1e12.
 const DAMPED_LIMIT: f64 = 100.0;
+
+/// The tightest tolerance at which a LuGre contact on the x axis beyond [`DAMPED_LIMIT`] takes
+/// the path: below it the body's global error grew beyond what Radau IIA keeps (at `k_t` =
+/// 1e11 and tolerance 1e-9, the position 2.0e-13 m off Radau at 1e-12 after 5 ms, twenty
+/// tolerances 1.7e-13; the window mean 2.1e-8 of `F_C`).
+const DAMPED_AXIAL_TOL: f64 = 1e-8;
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
     /// True when this contact takes the planar explicit path: a planar Dahl contact with
@@ -135,7 +144,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     return false;
                 };
                 let damping = lin.force_0.x() / v;
-                if damping / self.params.m * self.window.len > DAMPED_LIMIT {
+                // On the x axis a stiff LuGre contact's deformation is taken on its slow
+                // manifold where sliding (`coulomb_limit.rs`), whatever the damping, down to
+                // the tolerance [`DAMPED_AXIAL_TOL`].
+                let axial = self.dynamics.drive.axial().is_some()
+                    && self.on_x_axis()
+                    && self.radau.tolerance() >= DAMPED_AXIAL_TOL;
+                if damping / self.params.m * self.window.len > DAMPED_LIMIT && !axial {
                     return false;
                 }
                 (lin.force_s / self.params.m).sqrt()
@@ -263,10 +278,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     let scale = sys.scale;
     let bound = dynamics.law.bound();
     let relax = Relax::new(dynamics.law);
-    // Planar only: the 1-D stage rotations (`support`, below) are taken for the step
-    // length before a step on the manifold may shorten it.
     let manifold = Limit::new(sys, rtol);
-    debug_assert!(manifold.is_none() || V::DIM == 2);
     // The right-hand side at `(tt, u)` with the deformation `s` (the state's own, or an
     // exponential stage's), given the relative velocity `vr` there and its decay rate
     // `|v_r|/s_ss` (LuGre `|v_r|/g(v_r)`); the body's equations read only `u`'s body part.
@@ -351,6 +363,28 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
             return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
         }
+        // The largest scaled error of the deformation's components, and of the rest.
+        let mut err_s: f64 = 0.0;
+        let mut err: f64 = 0.0;
+        // `v_r` at the stages of the step taken (of its last pass).
+        let mut vr_at = [V::default(); 7];
+        let exponential = k1[il] * hh >= exponential_from;
+        // Where a stiff contact's deformation is certified on its slow manifold (planar Dahl,
+        // LuGre on the x axis), the body alone (`coulomb_limit.rs`), the step cut to the
+        // start's reach (no sign change of `v_r` within it); else the exponential step. The
+        // 1-D stage support velocities below are for the step as cut.
+        let start = match &manifold {
+            Some(m) if exponential && cut.is_none() => {
+                m.start::<N>(t, &u).filter(|st| st.reach >= REACH_CUT * hh)
+            }
+            _ => None,
+        };
+        if let Some(st) = &start {
+            if st.reach < hh {
+                hh = st.reach;
+                last = false;
+            }
+        }
         let stage_support = support.as_ref().map(|s| s.stages(t, hh));
         // What the right-hand side needs at stage `i` of the step, time `tt`.
         let kin_stage = |i: usize, tt: f64, y: &[f64; M]| match &stage_support {
@@ -365,27 +399,6 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             }
             None => relative_velocity::<V, L, D, N, M>(sys, t, &u),
         };
-        // The largest scaled error of the deformation's components, and of the rest.
-        let mut err_s: f64 = 0.0;
-        let mut err: f64 = 0.0;
-        // `v_r` at the stages of the step taken (of its last pass).
-        let mut vr_at = [V::default(); 7];
-        let exponential = k1[il] * hh >= exponential_from;
-        // Where a stiff Dahl contact's deformation is certified on its slow manifold, the
-        // body alone (`coulomb_limit.rs`), the step cut to the start's reach (no sign change
-        // of `v_r` within it); else the exponential step.
-        let start = match &manifold {
-            Some(m) if exponential && cut.is_none() => {
-                m.start::<N>(t, &u).filter(|st| st.reach >= REACH_CUT * hh)
-            }
-            _ => None,
-        };
-        if let Some(st) = &start {
-            if st.reach < hh {
-                hh = st.reach;
-                last = false;
-            }
-        }
         let mut limit_evals = 0;
         let on_limit = match (&manifold, &start) {
             (Some(m), Some(st)) => m.step::<N, M>(st, t, &u, &k1, hh, |i, tt, y, s| {

@@ -160,6 +160,19 @@ pub struct VelocityTerms {
     pub damping: f64,
 }
 
+/// LuGre's steady slide at one sliding velocity `v` on the x axis (see [`FrictionLaw::steady`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Steady {
+    /// `g(v)`: the deformation a steady slide holds, `sign(v)·g` (Eq. 5 over `k_t`).
+    pub g: f64,
+    /// `dg/dv` (0 where `g` is floored).
+    pub dg: f64,
+    /// `k_t`.
+    pub k_t: f64,
+    /// The contact damping `h_t(v)`.
+    pub damping: f64,
+}
+
 /// One friction law with its constants precomputed from [`Params`].
 pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     /// Whether the law has a discontinuity off `v_r = 0` in planar motion that the integrator
@@ -229,6 +242,14 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     /// the only term of the force that does not scale with the normal load.
     fn viscous(&self) -> f64 {
         0.0
+    }
+    /// A steady slide at the velocity `v ≠ 0` along x, where the law's steady deformation
+    /// depends on the velocity (LuGre with friction; `None` for the other laws): the leading
+    /// term of a stiff contact's slow manifold (`model/coulomb_limit.rs`). Its `g` is the
+    /// one [`FrictionLaw::velocity_terms`] relaxes to, to the last bit.
+    fn steady(&self, v: f64) -> Option<Steady> {
+        let _ = v;
+        None
     }
 }
 
@@ -630,6 +651,37 @@ impl FrictionLaw for LuGre {
         // As `rate` and `force`, with `|v_r|/g(v_r)` and `h_t(v_r)` from the terms.
         let ds = vr - s * terms.decay;
         (ds, s * self.k_t + ds * terms.damping + vr * self.h_v)
+    }
+
+    /// `g = (F_C + (F_S − F_C)·e)/k_t`, `e = exp(−v²/v_S²)`, `dg/dv = −2·v·(F_S − F_C)·e/(k_t·v_S²)`,
+    /// with the exponentials of [`LuGre::velocity_terms`].
+    #[inline(always)]
+    fn steady(&self, v: f64) -> Option<Steady> {
+        if self.f_c == 0.0 && self.f_s == 0.0 {
+            return None;
+        }
+        let vr2 = v * v;
+        let stribeck = trig::exp(-vr2 * self.inv_v_s2);
+        let raw = self.f_c + (self.f_s - self.f_c) * stribeck;
+        let kg = raw
+            .max(G_FLOOR * self.f_c.max(self.f_s))
+            .max(1e-290 * self.k_t);
+        let dg = if raw >= kg {
+            -2.0 * v * self.inv_v_s2 * (self.f_s - self.f_c) * stribeck / self.k_t
+        } else {
+            0.0
+        };
+        let damping = if self.inv_v_e2 == self.inv_v_s2 {
+            stribeck
+        } else {
+            trig::exp(-vr2 * self.inv_v_e2)
+        };
+        Some(Steady {
+            g: kg / self.k_t,
+            dg,
+            k_t: self.k_t,
+            damping: self.h_t0 * damping,
+        })
     }
 
     fn linear<V: Vector>(&self, vr: V) -> Option<Linear<V>> {

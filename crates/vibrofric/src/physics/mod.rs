@@ -11,7 +11,7 @@ mod vector;
 
 pub use elastoplastic::{BranchStart, ElastoPlastic};
 pub use law::{
-    Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation, VelocityTerms,
+    Dahl, Dupont, FrictionLaw, LawJacobian, Linear, LuGre, Mat2, Relaxation, Steady, VelocityTerms,
     NO_FRICTION_LENGTH,
 };
 pub use support::{Harmonic, InputTrack};
