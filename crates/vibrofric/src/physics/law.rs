@@ -508,9 +508,32 @@ impl LuGre {
     /// `g` from `exp(−v_r²/v_S²)`.
     #[inline(always)]
     fn g_of(&self, stribeck: f64) -> f64 {
-        let g = (self.f_c + (self.f_s - self.f_c) * stribeck) / self.k_t;
-        g.max(G_FLOOR * self.f_c.max(self.f_s) / self.k_t)
-            .max(1e-290)
+        self.steady_force(stribeck).0 / self.k_t
+    }
+
+    /// `k_t·g` (the force of a steady slide) from `exp(−v_r²/v_S²)`, floored as [`LuGre::g`],
+    /// and whether it is on the floor.
+    #[inline(always)]
+    fn steady_force(&self, stribeck: f64) -> (f64, bool) {
+        let raw = self.f_c + (self.f_s - self.f_c) * stribeck;
+        let kg = raw
+            .max(G_FLOOR * self.f_c.max(self.f_s))
+            .max(1e-290 * self.k_t);
+        (kg, kg > raw)
+    }
+
+    /// The Stribeck and damping exponentials `exp(−v_r²/v_S²)` and `exp(−v_r²/v_e²)` at
+    /// `v_r² = vr2`, by the plain-arithmetic [`trig::exp`] (one where the two velocities are
+    /// equal, the default): the explicit paths' (see [`LuGre::velocity_terms`]).
+    #[inline(always)]
+    fn exponentials(&self, vr2: f64) -> (f64, f64) {
+        let stribeck = trig::exp(-vr2 * self.inv_v_s2);
+        let damping = if self.inv_v_e2 == self.inv_v_s2 {
+            stribeck
+        } else {
+            trig::exp(-vr2 * self.inv_v_e2)
+        };
+        (stribeck, damping)
     }
 }
 
@@ -590,13 +613,13 @@ impl FrictionLaw for LuGre {
         }
         let (rate_s, rate_v) = {
             let ex = libm::exp(-r2 * self.inv_v_s2);
-            let g_raw = (self.f_c + (self.f_s - self.f_c) * ex) / self.k_t;
             // The floor of `g` (see `LuGre::g`): flat below it.
-            let g = self.g(r2);
-            let grad_g = if g_raw >= g {
-                vr * ((self.f_s - self.f_c) * ex * (-2.0 * self.inv_v_s2) / self.k_t)
-            } else {
+            let (kg, floored) = self.steady_force(ex);
+            let g = kg / self.k_t;
+            let grad_g = if floored {
                 V::default()
+            } else {
+                vr * ((self.f_s - self.f_c) * ex * (-2.0 * self.inv_v_s2) / self.k_t)
             };
             // ∇(|v_r|/g) = e/g − |v_r|·∇g/g²
             let grad_q = unit(vr) * (1.0 / g) - grad_g * (r / (g * g));
@@ -627,16 +650,8 @@ impl FrictionLaw for LuGre {
             return VelocityTerms::default();
         }
         let vr2 = vr.dot(vr);
-        let stribeck = trig::exp(-vr2 * self.inv_v_s2);
-        let damping = if self.inv_v_e2 == self.inv_v_s2 {
-            stribeck
-        } else {
-            trig::exp(-vr2 * self.inv_v_e2)
-        };
-        // `k_t·g`, floored as in `LuGre::g_of`.
-        let kg = (self.f_c + (self.f_s - self.f_c) * stribeck)
-            .max(G_FLOOR * self.f_c.max(self.f_s))
-            .max(1e-290 * self.k_t);
+        let (stribeck, damping) = self.exponentials(vr2);
+        let (kg, _) = self.steady_force(stribeck);
         VelocityTerms {
             decay: vr2.sqrt() * self.k_t / kg,
             damping: self.h_t0 * damping,
@@ -660,21 +675,12 @@ impl FrictionLaw for LuGre {
         if self.f_c == 0.0 && self.f_s == 0.0 {
             return None;
         }
-        let vr2 = v * v;
-        let stribeck = trig::exp(-vr2 * self.inv_v_s2);
-        let raw = self.f_c + (self.f_s - self.f_c) * stribeck;
-        let kg = raw
-            .max(G_FLOOR * self.f_c.max(self.f_s))
-            .max(1e-290 * self.k_t);
-        let dg = if raw >= kg {
-            -2.0 * v * self.inv_v_s2 * (self.f_s - self.f_c) * stribeck / self.k_t
-        } else {
+        let (stribeck, damping) = self.exponentials(v * v);
+        let (kg, floored) = self.steady_force(stribeck);
+        let dg = if floored {
             0.0
-        };
-        let damping = if self.inv_v_e2 == self.inv_v_s2 {
-            stribeck
         } else {
-            trig::exp(-vr2 * self.inv_v_e2)
+            -2.0 * v * self.inv_v_s2 * (self.f_s - self.f_c) * stribeck / self.k_t
         };
         Some(Steady {
             g: kg / self.k_t,
