@@ -143,20 +143,23 @@ fn cases() -> Vec<Case> {
             with(|p| p.r_ba = r_ba),
         ));
     }
-    for k_t in [1e8, 1e12] {
-        // Held within the breakaway, without vibration: the body rings on the contact.
-        c.push(Case {
-            input: (InputId::FD, 2.0),
-            n: 1000,
-            ..force_case(
-                format!("stuck: Dupont, F_d = 2 N, u0 = 0, k_t = {k_t:.0e} N/m, 1 s"),
-                Law::Dupont,
-                with(|p| {
-                    p.k_t = k_t;
-                    p.u0 = 0.0
-                }),
-            )
-        });
+    for law in [Law::Dahl, Law::Dupont, Law::LuGre] {
+        for k_t in [1e8, 1e12] {
+            // Held below the Coulomb force (Dupont within its breakaway), without vibration:
+            // the body sticks (Dupont's rings on the contact).
+            c.push(Case {
+                input: (InputId::FD, 2.0),
+                n: 1000,
+                ..force_case(
+                    format!("stuck: {law:?}, F_d = 2 N, u0 = 0, k_t = {k_t:.0e} N/m, 1 s"),
+                    law,
+                    with(|p| {
+                        p.k_t = k_t;
+                        p.u0 = 0.0
+                    }),
+                )
+            });
+        }
     }
     c.push(exact_case(
         "one step of 2000 periods".into(),

@@ -622,3 +622,54 @@ fn lugre_coulomb_limit_agrees_with_radau_at_1e_10() {
         assert_eq!(format!("{:?}", a.outputs()), format!("{:?}", c.outputs()));
     }
 }
+
+/// A stiff contact whose body the vibration does not keep sliding may stick for long, where an
+/// explicit method steps at the contact's stability bound: Radau IIA takes a stiff Dahl or
+/// LuGre contact held by a force drive without vibration (Dupont keeps its closed form), and a
+/// LuGre contact damped beyond what the axial path was measured at. Held at `F_d` = 2 N below
+/// the Coulomb force from rest for 0.2 s at `k_t` = 1e12, each body sticks: its friction force
+/// balances the drive (`F_Fx = F_d` within 1e-6 of `F_C` after 20 ms, `F_mean` likewise) at
+/// every communication step, in a bounded number of steps.
+#[test]
+fn held_stiff_contacts_take_radau_and_stick() {
+    for (file, path) in [
+        ("contact.toml", Integrator::Radau),
+        ("contact-lugre.toml", Integrator::Radau),
+        ("contact-dupont.toml", Integrator::Explicit),
+    ] {
+        let mut scene = scene(file);
+        scene.start.k_t = 1e12;
+        scene.start.u0 = 0.0;
+        scene.inputs.f_d = 2.0;
+        let mut sim = Setup::new(scene.config, scene.start)
+            .inputs(scene.inputs)
+            .tolerance(1e-6)
+            .build()
+            .unwrap();
+        assert_eq!(sim.integrator(), path, "{file}");
+        let f_c = scene.start.f_c();
+        for k in 1..=200 {
+            sim.step_to(k as f64 * 1e-3).unwrap();
+            let o = sim.outputs();
+            if k > 20 {
+                // Dupont rings without loss on the contact (its own test checks the ring).
+                if path == Integrator::Radau {
+                    assert!((o.f_fx - 2.0).abs() <= 1e-6 * f_c, "{file} {k} ms: {o:?}");
+                    assert!((o.f_mean - 2.0).abs() <= 1e-6 * f_c, "{file} {k} ms: {o:?}");
+                }
+                assert!(o.s_x.abs() <= 1.3 * f_c / 1e12, "{file} {k} ms: {o:?}");
+            }
+        }
+        let steps = sim.stats().steps;
+        assert!(steps < 20_000, "{file}: {steps} steps in 0.2 s");
+    }
+    // Vibrated, the stiff LuGre contact keeps the path on the x axis at the default damping
+    // ratio, and Radau takes it thirty times as damped.
+    let mut scene = scene("contact-lugre.toml");
+    scene.start.k_t = 1e12;
+    let sim = build(scene.config, scene.start, 0.0, 1e-6).unwrap();
+    assert_eq!(sim.integrator(), Integrator::ExplicitPlanar);
+    scene.start.zeta_t = 30.0;
+    let sim = build(scene.config, scene.start, 0.0, 1e-6).unwrap();
+    assert_eq!(sim.integrator(), Integrator::Radau);
+}

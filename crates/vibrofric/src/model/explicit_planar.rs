@@ -119,10 +119,29 @@ pub(super) const STIFF_LIMIT: f64 = 1000.0;
 /// to 1e10, where the product is 4.2 to 42 at 2 kHz: at 1e-10, `F_Fx` 1.4e-11 to 8.5e-11 of `F_C` against
 /// Radau's 5e-11 to 3.5e-9); at 1e11 (134) the window means of the exponential steps were 9
 /// times less accurate than Radau's at 1e-10, and Radau takes such contacts off the x axis.
-/// On the axis the path keeps them, the sliding on the slow manifold (`coulomb_limit.rs`):
-/// there its `F_Fx` was more accurate than Radau's at the same tolerance (1e-6 to 1e-8 at
-/// `k_t` = 1e11 and 1e12) and its cost 3.6 times less at 1e12.
+/// On the axis the path keeps them within [`AXIAL_DAMPED_LIMIT`], the sliding on the slow
+/// manifold (`coulomb_limit.rs`): there, at `zeta_t` = 1, its `F_Fx` was more accurate than
+/// Radau's at the same tolerance (1e-6 to 1e-8 at `k_t` = 1e11 and 1e12) and its cost 3.6
+/// times less at 1e12.
 const DAMPED_LIMIT: f64 = 100.0;
+
+/// The largest [`DAMPED_LIMIT`]'s product for a LuGre contact whose body the vibration does not
+/// keep sliding ([`Contact::vibration_unheld`]): while it sticks the explicit method steps at
+/// the damping's stability bound. VibratingContactLuGre without vibration, `F_d` = 2 N (stuck),
+/// 1 s at tolerance 1e-6, CPU time: 1.6 ms at `k_t` = 1e9 (product 13), 110 ms at 3e9 (23),
+/// 143 ms at 1e10 (42) and, before this limit, 22 s at 1e12 (17.6 million steps); Radau IIA 4.2
+/// to 4.5 ms at each.
+const HELD_DAMPED_LIMIT: f64 = 20.0;
+
+/// The largest [`DAMPED_LIMIT`]'s product for a LuGre contact on the x axis, whose damping
+/// ratio must also be at most 1 (`c ≤ 2·sqrt(m·k_t)`, the viscous coefficient included): the
+/// range measured (VibratingContactLuGre at `zeta_t` = 1, `k_t` up to 1e12, where the product is
+/// 423 at 2 kHz). Beyond it the path was less accurate than Radau and could cost far more: at
+/// `k_t` = 1e12, `zeta_t` = 30, tolerance 1e-6, `F_Fx` 9.2e-4 of `F_C` off Radau at 1e-10
+/// against Radau's 9.3e-6 at 1e-6, in 11,401 steps over 5 ms against 4,878; at `zeta_t` = 1000
+/// 1.3 million steps; at `k_t` = 1e13 (`zeta_t` = 1) the window mean 18 tolerances off against
+/// Radau's 0.9.
+const AXIAL_DAMPED_LIMIT: f64 = 500.0;
 
 /// The tightest tolerance at which a LuGre contact on the x axis beyond [`DAMPED_LIMIT`] takes
 /// the path: below it the body's global error grew beyond what Radau IIA keeps (at `k_t` =
@@ -143,6 +162,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         // The fastest rate of a stuck body: its oscillation on the spring `k_t`, or, with a
         // contact damping `c` (LuGre), `c/m` where that is faster.
         let rate = match law.relaxation() {
+            // A Dahl contact whose force- or spring-driven motion stays on the x axis is
+            // `explicit.rs`'s, or Radau's where that declines it (a stiff contact the
+            // vibration does not keep sliding).
+            Some(_) if self.dynamics.drive.axial().is_some() && self.on_x_axis() => {
+                return false;
+            }
             Some(relax) if relax.exponent == 1.0 => (relax.stiffness / self.params.m).sqrt(),
             Some(_) => return false,
             None => {
@@ -153,13 +178,24 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     return false;
                 };
                 let damping = lin.force_0.x() / v;
-                // On the x axis a stiff LuGre contact's deformation is taken on its slow
-                // manifold where sliding (`coulomb_limit.rs`), whatever the damping, down to
-                // the tolerance [`DAMPED_AXIAL_TOL`].
-                let axial = self.dynamics.drive.axial().is_some()
+                let damped = damping / self.params.m * self.window.len;
+                // A body the vibration does not keep sliding may stick for long, stepped at
+                // the damping's stability bound: [`HELD_DAMPED_LIMIT`]. Where it does, on the
+                // x axis, a stiff contact's deformation is taken on its slow manifold
+                // (`coulomb_limit.rs`) within [`AXIAL_DAMPED_LIMIT`], down to the tolerance
+                // [`DAMPED_AXIAL_TOL`].
+                let limit = if !self.vibration_unheld() {
+                    HELD_DAMPED_LIMIT
+                } else if damping <= 2.0 * (self.params.m * self.params.k_t).sqrt()
+                    && self.dynamics.drive.axial().is_some()
                     && self.on_x_axis()
-                    && self.radau.tolerance() >= DAMPED_AXIAL_TOL;
-                if damping / self.params.m * self.window.len > DAMPED_LIMIT && !axial {
+                    && self.radau.tolerance() >= DAMPED_AXIAL_TOL
+                {
+                    AXIAL_DAMPED_LIMIT
+                } else {
+                    DAMPED_LIMIT
+                };
+                if damped > limit {
                     return false;
                 }
                 (lin.force_s / self.params.m).sqrt()
@@ -524,7 +560,8 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             err = err.max((step.err[i] / w).abs());
         }
         // Short of the call's end a step's deformation error counts by what it leaves
-        // ([`settled`]; Dahl's: LuGre's force also takes the deformation's rate). An
+        // ([`settled`]; Dahl's only: LuGre's force also takes `ds/dt`, whose error is not
+        // left behind the same way). An
         // exponential step's, its interpolation's, is in the force all along the step: the
         // push's `h`; down to the tolerance [`WEIGH_EXPONENTIAL_DOWN_TO`].
         if !last && weigh && (!exponential || tol >= WEIGH_EXPONENTIAL_DOWN_TO) {
@@ -942,7 +979,9 @@ fn exp_neg(z: f64) -> f64 {
 
 /// A deformation error `err_s` (scaled) of a step of length `h` that ends short of its call's
 /// end (by `ahead`), weighed by what it leaves: it grew along the step (an exponential step's
-/// interpolation error: it was there all along) and relaxes after
+/// is its interpolation's, estimated at the step's end and taken to have been of that size
+/// all along: an assumption, borne out by the measurements at [`WEIGH_EXPONENTIAL_DOWN_TO`])
+/// and relaxes after
 /// it at the rate `dλ/dt = |v_r|/s_ss` in every direction (`rates` at the step's start and
 /// end), having pushed the body by at most `(k_t/m)·δs·(h + 1/(dλ/dt))` in velocity (`push` is
 /// `k_t/m` on the scale of the errors, with a margin); what is left of it at the call's end,

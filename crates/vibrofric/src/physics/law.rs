@@ -243,10 +243,11 @@ pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
     fn viscous(&self) -> f64 {
         0.0
     }
-    /// A steady slide at the velocity `v ≠ 0` along x, where the law's steady deformation
-    /// depends on the velocity (LuGre with friction; `None` for the other laws): the leading
-    /// term of a stiff contact's slow manifold (`model/coulomb_limit.rs`). Its `g` is the
-    /// one [`FrictionLaw::velocity_terms`] relaxes to, to the last bit.
+    /// A steady slide at the velocity `v ≠ 0` along x of a law whose steady deformation is
+    /// `g(v)` (LuGre with friction, even where `F_S = F_C` makes `g` constant; `None` for the
+    /// other laws): the leading term of a stiff contact's slow manifold
+    /// (`model/coulomb_limit.rs`). Its `g` comes from the same `k_t·g` bits as the relaxation
+    /// rate of [`FrictionLaw::velocity_terms`].
     fn steady(&self, v: f64) -> Option<Steady> {
         let _ = v;
         None
