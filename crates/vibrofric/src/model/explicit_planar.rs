@@ -98,6 +98,10 @@ const BRIDGE: f64 = 1e-3;
 /// body's position drifted past ten tolerances of Radau at 1e-12.
 const WEIGH_EXPONENTIAL_DOWN_TO: f64 = 1e-8;
 
+/// The smallest error the predictive step size on the manifold takes from a step (smaller
+/// errors say nothing about a trend).
+const PREDICT_FLOOR: f64 = 1e-4;
+
 /// The error control's tolerance as a fraction of the user's, on the largest scaled error of
 /// the state's components: the global errors of `F_Fx` and `F_Fy` are then at or below
 /// Radau's at the same tolerance (measured on PaperTransverse and RigTransverse against a
@@ -372,6 +376,8 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     // phase, as on the 1-D path: two sines and cosines per attempt rather than a cosine at
     // each of its six stages.
     let mut support = (V::DIM == 1).then(|| StageSupport::new(dynamics, sys.input_support, t));
+    // The last accepted step on the manifold, with its error, while the steps stay on it.
+    let mut on_manifold: Option<(f64, f64)> = None;
     while t < t_target {
         if stats.steps + stats.rejected >= limit {
             return Err(SimError::Solver(SolverError::WorkLimit {
@@ -681,6 +687,20 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         if rejected {
             h_new = h_new.min(hh);
         }
+        // From one step on the manifold to the next, also Gustafsson's predictive step
+        // (RADAU5's, `h·(h/h_prev)·(err_prev/err²)^(1/5)`), the smaller of the two: there the
+        // error grows from step to step as `v_r` turns, and a step as long as the last was
+        // rejected every other time (PaperTransverse at `k_t` = 1e12, tolerance 1e-6: 4.0
+        // rejected steps per period against 8.0, 164 right-hand sides against 188, `F_Fx`
+        // 1.3e-8 of `F_C` from Radau at 1e-11 as before; on every step, at 1e8 it cost
+        // VibratingContactLuGre 8 % more right-hand sides).
+        if let (Some((h_prev, err_prev)), true) = (on_manifold, limited) {
+            let e = err.max(PREDICT_FLOOR);
+            // `factor` is 0.9·x^(−1/5).
+            let predicted = hh * (hh / h_prev) * factor(e * e / err_prev) / 0.9;
+            h_new = h_new.min(predicted.max(0.2 * hh));
+        }
+        on_manifold = limited.then_some((hh, err.max(PREDICT_FLOOR)));
         rejected = false;
         if (last || cut.is_some()) && hh < h {
             // A step clipped to the target or to a sign change says little about the size.
