@@ -315,6 +315,12 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     // phase, as on the 1-D path: two sines and cosines per attempt rather than a cosine at
     // each of its six stages.
     let mut support = (V::DIM == 1).then(|| StageSupport::new(dynamics, sys.input_support, t));
+    // The plain steps' stages and derivatives, taken in place step after step.
+    let mut plain = DoPriStep {
+        stages: [[0.0; M]; 7],
+        k: [[0.0; M]; 7],
+        err: [0.0; M],
+    };
     while t < t_target {
         if stats.steps + stats.rejected >= limit {
             return Err(SimError::Solver(SolverError::WorkLimit {
@@ -400,13 +406,14 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         // A step on the manifold counts its stages below with every other step's; an
         // attempt the certificate refused, and a first stage moved onto the manifold, here.
         stats.rhs_evals += limit_evals - if limited { 6 } else { 0 };
-        let (step, mut u1) = if let Some((step, u1)) = on_limit {
+        let exp_step;
+        let (step, mut u1) = if let Some((step, u1)) = &on_limit {
             // The deformation's error: the manifold's under the body's.
             for c in 0..V::DIM {
                 let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
                 err = err.max((step.err[c] / w).abs());
             }
-            (step, u1)
+            (step, *u1)
         } else if exponential {
             // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
             // the target `q = s_ss·v_r/|v_r|` interpolated in λ through the stages so far
@@ -481,20 +488,21 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             if bad {
                 err = f64::INFINITY;
             }
-            (step, u1)
+            exp_step = step;
+            (&exp_step, u1)
         } else {
             let mut stage = |i: usize, tt: f64, y: &[f64; M]| -> [f64; M] {
                 let k = kin_stage(i, tt, y);
                 vr_at[i] = k.vr;
                 rhs_with(y, V::read(&y[..V::DIM]), &k)
             };
-            let step = DoPriStep::take_staged(&mut stage, t, &u, &k1, hh);
-            let u1 = step.end();
+            plain.retake(&mut stage, t, &u, &k1, hh);
+            let u1 = plain.end();
             for c in 0..V::DIM {
                 let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
-                err_s = err_s.max((step.err[c] / w).abs());
+                err_s = err_s.max((plain.err[c] / w).abs());
             }
-            (step, u1)
+            (&plain, u1)
         };
         stats.rhs_evals += 6;
         for i in V::DIM..N {
