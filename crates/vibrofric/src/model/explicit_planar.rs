@@ -315,6 +315,8 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     // phase, as on the 1-D path: two sines and cosines per attempt rather than a cosine at
     // each of its six stages.
     let mut support = (V::DIM == 1).then(|| StageSupport::new(dynamics, sys.input_support, t));
+    // The support velocity at the last plain attempt's start and end ([`C`]`[6]`).
+    let mut known = [(f64::NAN, V::default()); 2];
     // The plain steps' stages and derivatives, taken in place step after step.
     let mut plain = DoPriStep {
         stages: [[0.0; M]; 7],
@@ -357,17 +359,31 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
             return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
         }
-        let stage_support = support.as_ref().map(|s| s.stages(t, hh));
+        // The support velocity at the stage times: in one dimension by rotations (with the
+        // rotation over the step, for `turn` once it is accepted); in the plane, for a plain
+        // step, each computed once and looked up by stage rather than in the memo of
+        // `System::support` (whose lookups cost about a tenth of a plain step on
+        // RigTransverse), the same bits.
+        let stage_support = support
+            .as_ref()
+            .map(|s| {
+                let (w, turn) = s.stages(t, hh);
+                (w.map(|w| V::from_xy(w, 0.0)), Some(turn))
+            })
+            .or_else(|| {
+                (V::DIM == 2 && k1[il] * hh < exponential_from)
+                    .then(|| (plane_stage_support(sys, &mut known, t, hh), None))
+            });
         // What the right-hand side needs at stage `i` of the step, time `tt`.
         let kin_stage = |i: usize, tt: f64, y: &[f64; M]| match &stage_support {
-            Some((w, _)) => Kin::with_support(sys, &relax, tt, &y[..N], V::from_xy(w[i], 0.0)),
+            Some((w, _)) => Kin::with_support(sys, &relax, tt, &y[..N], w[i]),
             None => kin(tt, y),
         };
         // `v_r` at the step's start.
         let vr_start = || match &stage_support {
             Some((w, _)) => {
                 let d = sys.dynamics.drive_inputs(t);
-                sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - V::from_xy(w[0], 0.0)
+                sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - w[0]
             }
             None => relative_velocity::<V, L, D, N, M>(sys, t, &u),
         };
@@ -602,7 +618,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             integral[1] += u1[N + 1];
         }
         u = u1;
-        if let (Some(s), Some((_, turn))) = (support.as_mut(), stage_support) {
+        if let (Some(s), Some((_, Some(turn)))) = (support.as_mut(), stage_support) {
             s.turn(turn);
         }
         // After an exponential step the end's deformation is not the last stage's (after a
@@ -640,6 +656,30 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     y.copy_from_slice(&u[..N]);
     run.h = h;
     Ok(integral)
+}
+
+/// The support velocity at the stage times `t + C[i]·h` of a planar step from `t` ([`C`]),
+/// each computed once: `known` holds it at the last attempt's start and end (updated), so
+/// that a step after it finds its start's there. The bits of [`System::support`].
+fn plane_stage_support<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
+    sys: &System<'_, V, L, D>,
+    known: &mut [(f64, V); 2],
+    t: f64,
+    h: f64,
+) -> [V; 7] {
+    let mut w = [V::default(); 7];
+    w[0] = match known.iter().find(|(tk, _)| *tk == t) {
+        Some(&(_, v)) => v,
+        None => sys.support(t),
+    };
+    for i in 1..6 {
+        w[i] = sys
+            .dynamics
+            .support_velocity(t + C[i] * h, sys.input_support);
+    }
+    w[6] = w[5];
+    *known = [(t, w[0]), (t + h, w[6])];
+    w
 }
 
 /// λ and `q` at six equidistant points of a step from its continuous extension `dense`
