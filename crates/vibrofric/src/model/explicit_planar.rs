@@ -11,7 +11,8 @@
 //! the vector type and the widths); its lateral components stay 0 as the planar equations keep
 //! them (the results were those of the planar integration to the last bit on
 //! VibratingContactLuGre, 0.1 s at tolerances 1e-6 and 1e-8), and the support velocity at
-//! the stages comes from rotations of the harmonic phase as on the 1-D path.
+//! the stages comes from rotations of the harmonic phase as on the 1-D path; so it does at
+//! the stages of a plain step off the axis ([`plane_stage_support`]).
 //! On the x axis `|v_r|` has a kink at each sign change of `v_rx`, across which a step's error
 //! estimate is not to be trusted: such a step is retaken to end just past the sign change, and a
 //! step rejected across one is retried to end there; one that ends a little short of it is
@@ -42,12 +43,13 @@ use super::contact::Contact;
 use super::coulomb_limit::Limit;
 use super::drive::{Axial, DriveInputs, DriveKind};
 use super::dynamics::{Dynamics, Eval, System};
-use super::explicit::StageSupport;
 use super::explicit::{reach_ahead, PUSH_MARGIN, WEIGH_UP_TO};
+use super::explicit::{rot, stage_rotations, StageSupport};
 use super::simulator::SimError;
 use crate::physics::{trig, FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError, SolverStats};
+use crate::table::InputId;
 
 /// The largest width of the integrated vector: the state (6 in planar motion), the integrals
 /// of the friction force's `V::DIM` components and the relaxation arc length
@@ -315,8 +317,8 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     // phase, as on the 1-D path: two sines and cosines per attempt rather than a cosine at
     // each of its six stages.
     let mut support = (V::DIM == 1).then(|| StageSupport::new(dynamics, sys.input_support, t));
-    // The support velocity at the last plain attempt's start and end ([`C`]`[6]`).
-    let mut known = [(f64::NAN, V::default()); 2];
+    // The harmonic source's phase at the last plain planar attempt's start and end.
+    let mut known = [(f64::NAN, (1.0, 0.0)); 2];
     // The plain steps' stages and derivatives, taken in place step after step.
     let mut plain = DoPriStep {
         stages: [[0.0; M]; 7],
@@ -359,11 +361,9 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
             return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
         }
-        // The support velocity at the stage times: in one dimension by rotations (with the
-        // rotation over the step, for `turn` once it is accepted); in the plane, for a plain
-        // step, each computed once and looked up by stage rather than in the memo of
-        // `System::support` (whose lookups cost about a tenth of a plain step on
-        // RigTransverse), the same bits.
+        // The support velocity at the stage times by rotations of the harmonic phase: in one
+        // dimension (with the rotation over the step, for `turn` once it is accepted), and in
+        // the plane for a plain step ([`plane_stage_support`]), looked up by stage.
         let stage_support = support
             .as_ref()
             .map(|s| {
@@ -658,27 +658,47 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     Ok(integral)
 }
 
-/// The support velocity at the stage times `t + C[i]·h` of a planar step from `t` ([`C`]),
-/// each computed once: `known` holds it at the last attempt's start and end (updated), so
-/// that a step after it finds its start's there. The bits of [`System::support`].
+/// The support velocity at the stage times `t + C[i]·h` of a planar step from `t` ([`C`]):
+/// the harmonic source's by rotations of its phase from the step's start, as on the 1-D path
+/// ([`StageSupport`]: two sines and cosines per attempt rather than a cosine at each of its
+/// five distinct stage times), the input tracks' at each time. `known` holds the phase
+/// (cosine, sine) at the last attempt's start and end (updated), so that an attempt after it
+/// carries it on; one that finds neither (the call's first, one after an exponential step or
+/// a step on the Coulomb limit, or after the call's last, clipped step) takes it afresh.
 fn plane_stage_support<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
     sys: &System<'_, V, L, D>,
-    known: &mut [(f64, V); 2],
+    known: &mut [(f64, (f64, f64)); 2],
     t: f64,
     h: f64,
 ) -> [V; 7] {
+    let dynamics = sys.dynamics;
     let mut w = [V::default(); 7];
-    w[0] = match known.iter().find(|(tk, _)| *tk == t) {
-        Some(&(_, v)) => v,
-        None => sys.support(t),
-    };
-    for i in 1..6 {
-        w[i] = sys
-            .dynamics
-            .support_velocity(t + C[i] * h, sys.input_support);
+    if let Some(hm) = &dynamics.harmonic {
+        let phase = match known.iter().find(|(tk, _)| *tk == t) {
+            Some(&(_, p)) => p,
+            None => {
+                let (sin, cos) = trig::sin_cos(hm.theta(t));
+                (cos, sin)
+            }
+        };
+        let (rotations, whole) = stage_rotations(std::f64::consts::TAU * hm.f, h);
+        let v_a = hm.v_a();
+        for (wi, r) in w.iter_mut().zip(rotations) {
+            let v = v_a * rot(phase, r).0;
+            *wi = V::from_xy(v * hm.dir.0, v * hm.dir.1);
+        }
+        *known = [(t, phase), (t + h, rot(phase, whole))];
     }
-    w[6] = w[5];
-    *known = [(t, w[0]), (t + h, w[6])];
+    if sys.input_support {
+        let (x, y) = (
+            &dynamics.tracks[InputId::VSx.index()],
+            &dynamics.tracks[InputId::VSy.index()],
+        );
+        for (wi, ci) in w.iter_mut().zip(C) {
+            let tt = t + ci * h;
+            *wi = *wi + V::from_xy(x.at(tt), y.at(tt));
+        }
+    }
     w
 }
 
