@@ -62,9 +62,11 @@ const M_AXIAL: usize = 5;
 
 /// The relaxation over a step (`|v_r|·h/s_ss` at its start) from which the deformation is
 /// advanced exponentially in `λ` instead of as one more component of the explicit method. Below
-/// it the explicit method is accurate and about four times cheaper per attempted step (an
-/// exponential step is taken twice and interpolates: 1.8 against 0.44 µs on RigTransverse at
-/// `k_t` = 1e12 and 1e8, CPU time); at the default `k_t` = 1e8 nearly every step is below it,
+/// it the explicit method is accurate and about four to five times cheaper per attempted step
+/// (an exponential step is taken twice and interpolates: 1.8 against 0.44 µs on RigTransverse
+/// at `k_t` = 1e12 and 1e8, CPU time; the plain step about 30 % less since it is taken in
+/// place and its support velocity comes from rotations of the phase,
+/// [`plane_stage_support`]); at the default `k_t` = 1e8 nearly every step is below it,
 /// from about 1e10 on nearly every step above. Between 0.5 and 1 the exponential step took no
 /// longer steps: VibratingContactLuGre (whose steps span 0.2 to 0.8 at 1e8) cost 48 µs per
 /// period at tolerance 1e-6 with a threshold of 0.5 and 36 µs with 1, its `F_Fx` error against
@@ -664,7 +666,8 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
 /// five distinct stage times), the input tracks' at each time. `known` holds the phase
 /// (cosine, sine) at the last attempt's start and end (updated), so that an attempt after it
 /// carries it on; one that finds neither (the call's first, one after an exponential step or
-/// a step on the Coulomb limit, or after the call's last, clipped step) takes it afresh.
+/// a step on the Coulomb limit) takes it afresh, so that the rotations' rounding adds up over
+/// at most the plain steps of one call.
 fn plane_stage_support<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
     sys: &System<'_, V, L, D>,
     known: &mut [(f64, (f64, f64)); 2],
