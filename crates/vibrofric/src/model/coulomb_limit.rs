@@ -465,6 +465,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
     /// manifold (by at most [`START_FRACTION`] of the tolerance), the first derivative `k1`
     /// recomputed where it moved.
     #[allow(clippy::too_many_arguments)] // the step's own arguments, and the start
+    #[inline(always)]
     pub(super) fn step<const N: usize, const M: usize>(
         &self,
         start: &Start<V>,

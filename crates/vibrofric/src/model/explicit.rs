@@ -702,8 +702,24 @@ pub(super) struct StageSupport {
 
 /// The product of two rotations given as (cosine, sine).
 #[inline(always)]
-fn rot(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+pub(super) fn rot(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
     (a.0 * b.0 - a.1 * b.1, a.1 * b.0 + a.0 * b.1)
+}
+
+/// The rotations by the phase `omega·C[i]·h` over the stages of a step of length `h` ([`C`]),
+/// from those over `h/10` and `h/9`, and the rotation over the whole step.
+#[inline(always)]
+pub(super) fn stage_rotations(omega: f64, h: f64) -> ([(f64, f64); 7], (f64, f64)) {
+    let (s, c) = trig::sin_cos(0.1 * omega * h);
+    let (s9, c9) = trig::sin_cos(omega * h / 9.0);
+    let r1 = (c, s);
+    let r2 = rot(r1, r1);
+    let r3 = rot(r2, r1);
+    let r4 = rot(r2, r2);
+    let r8 = rot(r4, r4);
+    let whole = rot(r8, r2);
+    let r89 = rot(whole, (c9, -s9));
+    ([(1.0, 0.0), r2, r3, r8, r89, whole, whole], whole)
 }
 
 impl StageSupport {
@@ -745,20 +761,9 @@ impl StageSupport {
         let mut w = [0.0; 7];
         let mut whole = (1.0, 0.0);
         if self.amp != 0.0 {
-            // Rotations by the phase over C[i]·h from those over h/10 and h/9.
-            let (s, c) = trig::sin_cos(0.1 * self.omega * h);
-            let (s9, c9) = trig::sin_cos(self.omega * h / 9.0);
-            let r1 = (c, s);
-            let r2 = rot(r1, r1);
-            let r3 = rot(r2, r1);
-            let r4 = rot(r2, r2);
-            let r8 = rot(r4, r4);
-            whole = rot(r8, r2);
-            let r89 = rot(whole, (c9, -s9));
-            for (wi, r) in w
-                .iter_mut()
-                .zip([(1.0, 0.0), r2, r3, r8, r89, whole, whole])
-            {
+            let rotations;
+            (rotations, whole) = stage_rotations(self.omega, h);
+            for (wi, r) in w.iter_mut().zip(rotations) {
                 *wi = self.amp * rot(self.phase, r).0;
             }
         }

@@ -11,7 +11,8 @@
 //! the vector type and the widths); its lateral components stay 0 as the planar equations keep
 //! them (the results were those of the planar integration to the last bit on
 //! VibratingContactLuGre, 0.1 s at tolerances 1e-6 and 1e-8), and the support velocity at
-//! the stages comes from rotations of the harmonic phase as on the 1-D path.
+//! the stages comes from rotations of the harmonic phase as on the 1-D path; so it does at
+//! the stages of a plain step off the axis ([`plane_stage_support`]).
 //! On the x axis `|v_r|` has a kink at each sign change of `v_rx`, across which a step's error
 //! estimate is not to be trusted: such a step is retaken to end just past the sign change, and a
 //! step rejected across one is retried to end there; one that ends a little short of it is
@@ -42,12 +43,13 @@ use super::contact::Contact;
 use super::coulomb_limit::Limit;
 use super::drive::{Axial, DriveInputs, DriveKind};
 use super::dynamics::{Dynamics, Eval, System};
-use super::explicit::StageSupport;
 use super::explicit::{reach_ahead, PUSH_MARGIN, WEIGH_UP_TO};
+use super::explicit::{rot, stage_rotations, StageSupport};
 use super::simulator::SimError;
 use crate::physics::{trig, FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError, SolverStats};
+use crate::table::InputId;
 
 /// The largest width of the integrated vector: the state (6 in planar motion), the integrals
 /// of the friction force's `V::DIM` components and the relaxation arc length
@@ -60,9 +62,11 @@ const M_AXIAL: usize = 5;
 
 /// The relaxation over a step (`|v_r|·h/s_ss` at its start) from which the deformation is
 /// advanced exponentially in `λ` instead of as one more component of the explicit method. Below
-/// it the explicit method is accurate and about four times cheaper per attempted step (an
-/// exponential step is taken twice and interpolates: 1.8 against 0.44 µs on RigTransverse at
-/// `k_t` = 1e12 and 1e8, CPU time); at the default `k_t` = 1e8 nearly every step is below it,
+/// it the explicit method is accurate and about four to five times cheaper per attempted step
+/// (an exponential step is taken twice and interpolates: 1.8 against 0.44 µs on RigTransverse
+/// at `k_t` = 1e12 and 1e8, CPU time; the plain step about 30 % less since it is taken in
+/// place and its support velocity comes from rotations of the phase,
+/// [`plane_stage_support`]); at the default `k_t` = 1e8 nearly every step is below it,
 /// from about 1e10 on nearly every step above. Between 0.5 and 1 the exponential step took no
 /// longer steps: VibratingContactLuGre (whose steps span 0.2 to 0.8 at 1e8) cost 48 µs per
 /// period at tolerance 1e-6 with a threshold of 0.5 and 36 µs with 1, its `F_Fx` error against
@@ -378,6 +382,14 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     let mut support = (V::DIM == 1).then(|| StageSupport::new(dynamics, sys.input_support, t));
     // The last accepted step on the manifold, with its error, while the steps stay on it.
     let mut on_manifold: Option<(f64, f64)> = None;
+    // The harmonic source's phase at the last plain planar attempt's start and end.
+    let mut known = [(f64::NAN, (1.0, 0.0)); 2];
+    // The plain steps' stages and derivatives, taken in place step after step.
+    let mut plain = DoPriStep {
+        stages: [[0.0; M]; 7],
+        k: [[0.0; M]; 7],
+        err: [0.0; M],
+    };
     while t < t_target {
         if stats.steps + stats.rejected >= limit {
             return Err(SimError::Solver(SolverError::WorkLimit {
@@ -436,17 +448,29 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
                 last = false;
             }
         }
-        let stage_support = support.as_ref().map(|s| s.stages(t, hh));
+        // The support velocity at the stage times by rotations of the harmonic phase: in one
+        // dimension (with the rotation over the step, for `turn` once it is accepted), and in
+        // the plane for a plain step ([`plane_stage_support`]), looked up by stage.
+        let stage_support = support
+            .as_ref()
+            .map(|s| {
+                let (w, turn) = s.stages(t, hh);
+                (w.map(|w| V::from_xy(w, 0.0)), Some(turn))
+            })
+            .or_else(|| {
+                (V::DIM == 2 && !exponential)
+                    .then(|| (plane_stage_support(sys, &mut known, t, hh), None))
+            });
         // What the right-hand side needs at stage `i` of the step, time `tt`.
         let kin_stage = |i: usize, tt: f64, y: &[f64; M]| match &stage_support {
-            Some((w, _)) => Kin::with_support(sys, &relax, tt, &y[..N], V::from_xy(w[i], 0.0)),
+            Some((w, _)) => Kin::with_support(sys, &relax, tt, &y[..N], w[i]),
             None => kin(tt, y),
         };
         // `v_r` at the step's start.
         let vr_start = || match &stage_support {
             Some((w, _)) => {
                 let d = sys.dynamics.drive_inputs(t);
-                sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - V::from_xy(w[0], 0.0)
+                sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - w[0]
             }
             None => relative_velocity::<V, L, D, N, M>(sys, t, &u),
         };
@@ -464,13 +488,14 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         // A step on the manifold counts its stages below with every other step's; an
         // attempt the certificate refused, and a first stage moved onto the manifold, here.
         stats.rhs_evals += limit_evals - if limited { 6 } else { 0 };
-        let (step, mut u1) = if let Some((step, u1)) = on_limit {
+        let exp_step;
+        let (step, mut u1) = if let Some((step, u1)) = &on_limit {
             // The deformation's error: the manifold's under the body's.
             for c in 0..V::DIM {
                 let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
                 err = err.max((step.err[c] / w).abs());
             }
-            (step, u1)
+            (step, *u1)
         } else if exponential {
             // The deformation at each stage from its equation in λ, `ds/dλ = q − s`, with
             // the target `q = s_ss·v_r/|v_r|` interpolated in λ through the stages so far
@@ -545,20 +570,21 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             if bad {
                 err = f64::INFINITY;
             }
-            (step, u1)
+            exp_step = step;
+            (&exp_step, u1)
         } else {
             let mut stage = |i: usize, tt: f64, y: &[f64; M]| -> [f64; M] {
                 let k = kin_stage(i, tt, y);
                 vr_at[i] = k.vr;
                 rhs_with(y, V::read(&y[..V::DIM]), &k)
             };
-            let step = DoPriStep::take_staged(&mut stage, t, &u, &k1, hh);
-            let u1 = step.end();
+            plain.retake(&mut stage, t, &u, &k1, hh);
+            let u1 = plain.end();
             for c in 0..V::DIM {
                 let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
-                err_s = err_s.max((step.err[c] / w).abs());
+                err_s = err_s.max((plain.err[c] / w).abs());
             }
-            (step, u1)
+            (&plain, u1)
         };
         stats.rhs_evals += 6;
         for i in V::DIM..N {
@@ -660,7 +686,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             integral[1] += u1[N + 1];
         }
         u = u1;
-        if let (Some(s), Some((_, turn))) = (support.as_mut(), stage_support) {
+        if let (Some(s), Some((_, Some(turn)))) = (support.as_mut(), stage_support) {
             s.turn(turn);
         }
         // After an exponential step the end's deformation is not the last stage's (after a
@@ -712,6 +738,51 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     y.copy_from_slice(&u[..N]);
     run.h = h;
     Ok(integral)
+}
+
+/// The support velocity at the stage times `t + C[i]·h` of a planar step from `t` ([`C`]):
+/// the harmonic source's by rotations of its phase from the step's start, as on the 1-D path
+/// ([`StageSupport`]: two sines and cosines per attempt rather than a cosine at each of its
+/// five distinct stage times), the input tracks' at each time. `known` holds the phase
+/// (cosine, sine) at the last attempt's start and end (updated), so that an attempt after it
+/// carries it on; one that finds neither (the call's first, one after an exponential step or
+/// a step on the Coulomb limit) takes it afresh, so that the rotations' rounding adds up over
+/// at most the plain steps of one call.
+fn plane_stage_support<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
+    sys: &System<'_, V, L, D>,
+    known: &mut [(f64, (f64, f64)); 2],
+    t: f64,
+    h: f64,
+) -> [V; 7] {
+    let dynamics = sys.dynamics;
+    let mut w = [V::default(); 7];
+    if let Some(hm) = &dynamics.harmonic {
+        let phase = match known.iter().find(|(tk, _)| *tk == t) {
+            Some(&(_, p)) => p,
+            None => {
+                let (sin, cos) = trig::sin_cos(hm.theta(t));
+                (cos, sin)
+            }
+        };
+        let (rotations, whole) = stage_rotations(std::f64::consts::TAU * hm.f, h);
+        let v_a = hm.v_a();
+        for (wi, r) in w.iter_mut().zip(rotations) {
+            let v = v_a * rot(phase, r).0;
+            *wi = V::from_xy(v * hm.dir.0, v * hm.dir.1);
+        }
+        *known = [(t, phase), (t + h, rot(phase, whole))];
+    }
+    if sys.input_support {
+        let (x, y) = (
+            &dynamics.tracks[InputId::VSx.index()],
+            &dynamics.tracks[InputId::VSy.index()],
+        );
+        for (wi, ci) in w.iter_mut().zip(C) {
+            let tt = t + ci * h;
+            *wi = *wi + V::from_xy(x.at(tt), y.at(tt));
+        }
+    }
+    w
 }
 
 /// λ and `q` at six equidistant points of a step from its continuous extension `dense`

@@ -114,6 +114,37 @@ impl<const M: usize> DoPriStep<M> {
         DoPriStep { stages, k, err }
     }
 
+    /// As [`DoPriStep::take_staged`], the step written over this one: a caller that takes its
+    /// steps into one place copies no stages or derivatives on the way (the same bits).
+    #[inline(always)]
+    pub fn retake(
+        &mut self,
+        f: &mut impl FnMut(usize, f64, &[f64; M]) -> [f64; M],
+        t: f64,
+        y: &[f64; M],
+        k1: &[f64; M],
+        h: f64,
+    ) {
+        let (stages, k) = (&mut self.stages, &mut self.k);
+        stages[0] = *y;
+        k[0] = *k1;
+        for i in 1..7 {
+            let mut yi = *y;
+            for (j, kj) in k.iter().enumerate().take(i) {
+                let a = A[i][j];
+                if a != 0.0 {
+                    for m in 0..M {
+                        yi[m] += h * a * kj[m];
+                    }
+                }
+            }
+            stages[i] = yi;
+            k[i] = f(i, t + C[i] * h, &yi);
+        }
+        let k = &self.k;
+        self.err = std::array::from_fn(|m| h * (0..7).map(|i| E[i] * k[i][m]).sum::<f64>());
+    }
+
     /// The solution at `t + h`.
     pub fn end(&self) -> [f64; M] {
         self.stages[6]
