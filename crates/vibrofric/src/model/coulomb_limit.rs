@@ -45,13 +45,18 @@
 //! 0.2 s, the largest `F_Fx` and `F_Fy` errors at 1e12 were 1.4e-8 and 5.6e-9 of `F_C`
 //! (PaperTransverse) and 6.4e-8 and 2.5e-8 (RigTransverse) at tolerance 1e-6; 8.4e-11 and
 //! 3.1e-11, 4.0e-9 and 1.3e-9 at 1e-7 (at 1e8 and 1e-6: 2.9e-9 and 2.9e-8, 1.0e-8 and 5.9e-8).
-//! About a quarter of the manifold's attempts are rejected; DOPRI5's proportional-integral
+//! About a quarter of the manifold's attempts were rejected; DOPRI5's proportional-integral
 //! controller on them (β = 0.04, 0.08) cost more (PaperTransverse 1.46 and 1.48 against 1.36
-//! in the same run).
+//! in the same run); Gustafsson's predictive step (`explicit_planar.rs`) halved them. Since the
+//! planar path's plain steps became about 30 % cheaper (rotations of the harmonic phase,
+//! stages in place), the ratios are PaperTransverse 1.8 and RigTransverse 1.8 from 0.1 s on,
+//! 5.1 from rest, with the cost at 1e12 about what it was: a manifold stage takes a sine and
+//! cosine of the support's phase and the manifold's own terms.
 //!
 //! On VibratingContactLuGre (force drive along x, tolerance 1e-6, CPU time) at `k_t` = 1e12
-//! the path with this step costs 7.1–7.5 times what it costs at 1e8 per period (Radau IIA,
-//! which took such contacts before: 27 times): 137 steps per period, 10 of them on the
+//! the path with this step cost 7.1–7.5 times what it cost at 1e8 per period (8.1 since the
+//! plain steps became cheaper; Radau IIA, which took such contacts before: 27 times): 137
+//! steps per period, 10 of them on the
 //! manifold (where `|v_r|` is above about 3e-4 m/s); the rest resolve each passage of `v_r`
 //! through 0 and the contact's damped oscillation after it (about 40 plain steps of 1e-7 to
 //! 3e-7 s each time, held there by the deformation's error), which this step does not reach.
