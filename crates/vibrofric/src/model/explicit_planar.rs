@@ -618,31 +618,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
         // step that ends on a sign change located on a rejected step's extension is checked
         // again.
         let crossing = if cut.is_none_or(|(_, trusted)| !trusted) {
-            let vr0 = vr_start();
-            let sigma = vr0.x().signum();
-            let vr_i = |i: usize| if i == 0 { vr0 } else { vr_at[i] };
-            let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
-            let g = |i: usize| sigma * vr_i(i).x();
-            match (1..7).find(|&i| g(i) < 0.0) {
-                Some(i) if vr0.x() != 0.0 && on_axis => {
-                    let end = step.end();
-                    let dense = step.dense_all(hh);
-                    let gd = |theta: f64| {
-                        let mut z = end;
-                        for (j, zj) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
-                            *zj = dense.at(j, theta);
-                        }
-                        sigma * relative_velocity::<V, L, D, N, M>(sys, t + theta * hh, &z).x()
-                    };
-                    let (ga, gb) = (g(i - 1).max(0.0), g(i));
-                    // Just past the sign change: within 1e-9 of the bracket's swing.
-                    let theta =
-                        super::explicit::root(&gd, (C[i - 1], ga), (C[i], gb), 1e-9 * (ga - gb));
-                    let te = t + theta * hh;
-                    (theta < 1.0 && te > t + 16.0 * f64::EPSILON * t.abs().max(hh)).then_some(te)
-                }
-                _ => None,
-            }
+            sign_change::<V, L, D, N, M>(sys, t, hh, vr_start(), &vr_at, step)
         } else {
             None
         };
@@ -783,6 +759,44 @@ fn plane_stage_support<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
         }
     }
     w
+}
+
+/// Just past the first sign change of `v_rx` within a step of length `hh` from `t` on the x axis
+/// (no lateral relative velocity at any stage), located on the step's continuous extension to
+/// within 1e-9 of the bracketing stages' swing, given `v_r` at the step's start (`vr0`) and at
+/// its stages (`vr_at`); `None` without one, or where it falls at the step's end or too near
+/// its start to cut there.
+fn sign_change<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: usize>(
+    sys: &System<'_, V, L, D>,
+    t: f64,
+    hh: f64,
+    vr0: V,
+    vr_at: &[V; 7],
+    step: &DoPriStep<M>,
+) -> Option<f64> {
+    let sigma = vr0.x().signum();
+    let vr_i = |i: usize| if i == 0 { vr0 } else { vr_at[i] };
+    let on_axis = vr0.y() == 0.0 && (1..7).all(|i| vr_i(i).y() == 0.0);
+    let g = |i: usize| sigma * vr_i(i).x();
+    match (1..7).find(|&i| g(i) < 0.0) {
+        Some(i) if vr0.x() != 0.0 && on_axis => {
+            let end = step.end();
+            let dense = step.dense_all(hh);
+            let gd = |theta: f64| {
+                let mut z = end;
+                for (j, zj) in z.iter_mut().enumerate().take(N).skip(V::DIM) {
+                    *zj = dense.at(j, theta);
+                }
+                sigma * relative_velocity::<V, L, D, N, M>(sys, t + theta * hh, &z).x()
+            };
+            let (ga, gb) = (g(i - 1).max(0.0), g(i));
+            // Just past the sign change: within 1e-9 of the bracket's swing.
+            let theta = super::explicit::root(&gd, (C[i - 1], ga), (C[i], gb), 1e-9 * (ga - gb));
+            let te = t + theta * hh;
+            (theta < 1.0 && te > t + 16.0 * f64::EPSILON * t.abs().max(hh)).then_some(te)
+        }
+        _ => None,
+    }
 }
 
 /// λ and `q` at six equidistant points of a step from its continuous extension `dense`
