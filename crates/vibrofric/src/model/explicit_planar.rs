@@ -385,11 +385,7 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     // The harmonic source's phase at the last plain planar attempt's start and end.
     let mut known = [(f64::NAN, (1.0, 0.0)); 2];
     // The plain steps' stages and derivatives, taken in place step after step.
-    let mut plain = DoPriStep {
-        stages: [[0.0; M]; 7],
-        k: [[0.0; M]; 7],
-        err: [0.0; M],
-    };
+    let mut plain = DoPriStep::zeros();
     while t < t_target {
         if stats.steps + stats.rejected >= limit {
             return Err(SimError::Solver(SolverError::WorkLimit {

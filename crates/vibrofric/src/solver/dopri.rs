@@ -94,24 +94,18 @@ impl<const M: usize> DoPriStep<M> {
         k1: &[f64; M],
         h: f64,
     ) -> Self {
-        let mut k = [[0.0; M]; 7];
-        let mut stages = [*y; 7];
-        k[0] = *k1;
-        for i in 1..7 {
-            let mut yi = *y;
-            for (j, kj) in k.iter().enumerate().take(i) {
-                let a = A[i][j];
-                if a != 0.0 {
-                    for m in 0..M {
-                        yi[m] += h * a * kj[m];
-                    }
-                }
-            }
-            stages[i] = yi;
-            k[i] = f(i, t + C[i] * h, &yi);
+        let mut step = Self::zeros();
+        step.retake(f, t, y, k1, h);
+        step
+    }
+
+    /// A step of zeros, to [`DoPriStep::retake`] steps into.
+    pub fn zeros() -> Self {
+        DoPriStep {
+            stages: [[0.0; M]; 7],
+            k: [[0.0; M]; 7],
+            err: [0.0; M],
         }
-        let err = std::array::from_fn(|m| h * (0..7).map(|i| E[i] * k[i][m]).sum::<f64>());
-        DoPriStep { stages, k, err }
     }
 
     /// As [`DoPriStep::take_staged`], the step written over this one: a caller that takes its
