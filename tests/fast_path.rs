@@ -457,6 +457,30 @@ fn tight_tolerances_keep_the_planar_path_s_steps_bounded() {
     }
 }
 
+/// `scene` at the contact stiffness `k_t` on `path` at tolerance `tol` for `n` communication
+/// steps of 1 ms: the outputs after each, and the simulator.
+fn run_at_stiffness(
+    scene: &Scene,
+    k_t: f64,
+    tol: f64,
+    path: Integrator,
+    n: usize,
+) -> (Vec<Outputs>, Box<dyn Simulator>) {
+    let p = vibrofric::table::Params { k_t, ..scene.start };
+    let mut sim = Setup::new(scene.config, p)
+        .inputs(scene.inputs)
+        .tolerance(tol)
+        .on(path)
+        .build()
+        .unwrap();
+    let mut out = vec![];
+    for k in 1..=n {
+        sim.step_to(k as f64 * 1e-3).unwrap();
+        out.push(sim.outputs());
+    }
+    (out, sim)
+}
+
 /// The planar explicit path on a stiff Dahl contact takes its step on the Coulomb limit's slow
 /// manifold (the body alone, the deformation a function of its motion) wherever that is
 /// certified: RigTransverse and PaperTransverse at `k_t` = 1e11 and 1e12, tolerances 1e-6 and
@@ -469,19 +493,7 @@ fn tight_tolerances_keep_the_planar_path_s_steps_bounded() {
 fn coulomb_limit_agrees_with_radau_at_1e_10() {
     let n = 20;
     let run = |scene: &Scene, k_t: f64, tol: f64, path: Integrator| {
-        let p = vibrofric::table::Params { k_t, ..scene.start };
-        let mut sim = Setup::new(scene.config, p)
-            .inputs(scene.inputs)
-            .tolerance(tol)
-            .on(path)
-            .build()
-            .unwrap();
-        let mut out = vec![];
-        for k in 1..=n {
-            sim.step_to(k as f64 * 1e-3).unwrap();
-            out.push(sim.outputs());
-        }
-        (out, sim)
+        run_at_stiffness(scene, k_t, tol, path, n)
     };
     for file in ["rig-transverse.toml", "paper-transverse.toml"] {
         let scene = scene(file);
@@ -564,21 +576,7 @@ fn coulomb_limit_agrees_with_radau_at_1e_10() {
 fn lugre_coulomb_limit_agrees_with_radau_at_1e_10() {
     let n = 20;
     let scene = scene("contact-lugre.toml");
-    let run = |k_t: f64, tol: f64, path: Integrator| {
-        let p = vibrofric::table::Params { k_t, ..scene.start };
-        let mut sim = Setup::new(scene.config, p)
-            .inputs(scene.inputs)
-            .tolerance(tol)
-            .on(path)
-            .build()
-            .unwrap();
-        let mut out = vec![];
-        for k in 1..=n {
-            sim.step_to(k as f64 * 1e-3).unwrap();
-            out.push(sim.outputs());
-        }
-        (out, sim)
-    };
+    let run = |k_t: f64, tol: f64, path: Integrator| run_at_stiffness(&scene, k_t, tol, path, n);
     let f_c = scene.start.f_c();
     let worst = |a: &[Outputs], b: &[Outputs], f: fn(&Outputs) -> f64| {
         a.iter()
