@@ -199,8 +199,10 @@ type End<V> = (f64, [f64; MAX_DIM], Point<V>);
 enum Kind {
     /// A planar Dahl contact with `kappa = 1`, of the length `s_ss` ([module docs](self)).
     Dahl { len: f64 },
-    /// A LuGre contact on the x axis ([`Limit::lugre_point`]).
-    LuGre,
+    /// A LuGre contact on the x axis ([`Limit::lugre_point`]), whose body's acceleration
+    /// along x changes by `b` per unit of friction force (it is affine in the force, with a
+    /// slope that neither the body's state nor the drive's inputs change: `−1/m`).
+    LuGre { b: f64 },
 }
 
 /// The largest gain `|B·κ·d(σ·g)/dv_r|` of the LuGre manifold's loop through the body
@@ -237,7 +239,19 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
             {
                 Kind::Dahl { len: relax.length }
             }
-            None if V::DIM == 1 && law.steady(1.0).is_some() => Kind::LuGre,
+            None if V::DIM == 1 && law.steady(1.0).is_some() => {
+                let (body, d) = ([0.0; MAX_DIM], dynamics.drive_inputs(0.0));
+                let acc = |f: f64| {
+                    let force = V::from_xy(f, 0.0);
+                    dynamics
+                        .drive
+                        .acceleration(&body[..D::N_BODY], force, &d, 0.0)
+                        .x()
+                };
+                Kind::LuGre {
+                    b: acc(1.0) - acc(0.0),
+                }
+            }
             _ => return None,
         };
         Some(Limit {
@@ -281,7 +295,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
     pub(super) fn point<const N: usize>(&self, t: f64, y: &[f64]) -> Option<Point<V>> {
         match self.kind {
             Kind::Dahl { len } => self.dahl_point::<N>(len, t, y),
-            Kind::LuGre => self.lugre_point::<N>(t, y),
+            Kind::LuGre { b } => self.lugre_point::<N>(b, t, y),
         }
     }
 
@@ -329,9 +343,9 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
     /// `g = g(v_r)` and `s = σ·g + z`, the law `ds/dt = v_r − (r/g)·s` reads
     /// `z = −(g/r)·D`, `D = ds/dt = σ·g'·a_r + dz/dt`, and the force
     /// `F = k_t·σ·g + h_v·v_r + κ·D` with `κ = h_t − k_t·g/r`. The body's acceleration is affine
-    /// in the force, `a_r = a0 + B·(F − F0)` (`a0` under `F0 = k_t·σ·g + h_v·v_r`), so that `D`
-    /// follows exactly from its own equation where the damping's pull `κ` on the body is
-    /// large ([`Limit::lugre_first`]):
+    /// in the force, `a_r = a0 + B·(F − F0)` (`a0` under `F0 = k_t·σ·g + h_v·v_r`, `B` the slope
+    /// `b` of [`Kind::LuGre`]), so that `D` follows exactly from its own equation where the
+    /// damping's pull `κ` on the body is large ([`Limit::lugre_first`]):
     ///
     /// - first order: `D1 = σ·g'·a0/(1 − B·κ·σ·g')`, `z1 = −(g/r)·D1`;
     /// - second order: `z2 = z1 − (g/r)·(dz1/dt)/(1 − B·κ·σ·g')`, the rate of `z1` from `z1`
@@ -343,12 +357,12 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
     /// deformation weighs `|k_t − h_t·r/g|·δz` in the force, at most [`Point::weight`] times
     /// `k_t·δz`.
     #[inline(always)]
-    fn lugre_point<const N: usize>(&self, t: f64, y: &[f64]) -> Option<Point<V>> {
+    fn lugre_point<const N: usize>(&self, b: f64, t: f64, y: &[f64]) -> Option<Point<V>> {
         let dynamics = self.sys.dynamics;
         let body = &y[V::DIM..N];
         let d = dynamics.drive_inputs(t);
         let [vs, acc_s, jerk_s] = self.support(t);
-        let first = self.lugre_first(body, &d, vs, acc_s)?;
+        let first = self.lugre_first(b, body, &d, vs, acc_s)?;
         // `z1` a time `τ` either side along the motion (the body moved by its rate under the
         // first-order force, the support by its Taylor series): a central difference.
         let tau = (t + JERK_STEP.max(1e-12 * t.abs())) - t;
@@ -367,7 +381,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
             let vs_at = vs + acc_s * dt + jerk_s * (0.5 * dt * dt);
             let acc_s_at = acc_s + jerk_s * dt;
             let inputs = dynamics.drive_inputs(t + dt);
-            self.lugre_first(&moved[..D::N_BODY], &inputs, vs_at, acc_s_at)
+            self.lugre_first(b, &moved[..D::N_BODY], &inputs, vs_at, acc_s_at)
                 .map(|p| p.z1)
         };
         let dz1 = (z1_at(tau)? - z1_at(-tau)?) / (2.0 * tau);
@@ -388,10 +402,18 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
     }
 
     /// The LuGre manifold's first order at the body `body` with the drive's inputs `d`, the
-    /// support's velocity `vs` and acceleration `acc_s` ([`Limit::lugre_point`]); `None` at
-    /// `v_r = 0` or where the loop through the body is strong ([`LOOP_MAX`]).
+    /// support's velocity `vs` and acceleration `acc_s`, the acceleration's slope in the force
+    /// `b` ([`Kind::LuGre`]) ([`Limit::lugre_point`]); `None` at `v_r = 0` or where the loop
+    /// through the body is strong ([`LOOP_MAX`]).
     #[inline(always)]
-    fn lugre_first(&self, body: &[f64], d: &DriveInputs, vs: V, acc_s: V) -> Option<LuGreFirst<V>> {
+    fn lugre_first(
+        &self,
+        b: f64,
+        body: &[f64],
+        d: &DriveInputs,
+        vs: V,
+        acc_s: V,
+    ) -> Option<LuGreFirst<V>> {
         let dynamics = self.sys.dynamics;
         let (law, drive) = (&dynamics.law, &dynamics.drive);
         let a_d = dynamics.tracks[InputId::VD.index()].slope;
@@ -405,13 +427,6 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
         let sigma = v.signum();
         let f0 = law.force(V::from_xy(sigma * st.g, 0.0), vr, V::default());
         let acc0 = drive.acceleration(body, f0, d, a_d).x();
-        // The acceleration's slope in the force (it is affine in it).
-        let df = f0.x().abs() + 1.0;
-        let b = (drive
-            .acceleration(body, f0 + V::from_xy(df, 0.0), d, a_d)
-            .x()
-            - acc0)
-            / df;
         let slope = sigma * st.dg;
         let kappa = st.damping - st.k_t * st.g / r;
         let gain = b * kappa * slope;
@@ -539,7 +554,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
             - dynamics.drive.velocity(&zero[..D::N_BODY], &d);
         let ds = match self.kind {
             Kind::Dahl { len } => correction_of_velocity(len, pe.vr, dv),
-            Kind::LuGre => dv * pe.slope,
+            Kind::LuGre { .. } => dv * pe.slope,
         };
         ds.write(&mut step.err[..V::DIM]);
         let mut be = [0.0; MAX_DIM];
