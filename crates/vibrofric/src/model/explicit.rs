@@ -363,9 +363,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 let pushed =
                     PUSH_MARGIN * step.err[0] * k_t * inv_m * (sigma * len - s_at[6]).abs()
                         / (vr.abs() * rtol * v_scale);
-                if pushed.abs() < e_s.abs() {
-                    e_s = (e_s.abs() * branch.kept(u1[0], reach)).max(pushed.abs());
-                }
+                e_s = weighed(e_s.abs(), pushed.abs(), || branch.kept(u1[0], reach));
             }
             let e = [
                 e_s,
@@ -471,6 +469,20 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.exp_h = h;
         self.direction = sigma;
         Ok([integral, 0.0])
+    }
+}
+
+/// A step's deformation error `err` (scaled, at least 0) weighed by what it leaves, here and
+/// on the planar path ([`PUSH_MARGIN`]): given `pushed`, the velocity it pushes into the body
+/// on the same scale, and `left`, the fraction of it still in the deformation at the call's
+/// end, it counts as the larger of the two where the push is the smaller, else (or where
+/// `pushed` is NaN) as it is.
+#[inline(always)]
+pub(super) fn weighed(err: f64, pushed: f64, left: impl FnOnce() -> f64) -> f64 {
+    if pushed < err {
+        (err * left()).max(pushed)
+    } else {
+        err
     }
 }
 
