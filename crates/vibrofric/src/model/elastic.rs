@@ -41,8 +41,6 @@ pub(super) struct ElasticEnd {
     pub impulse: f64,
     /// The relative velocity at the end.
     pub v_r: f64,
-    /// The harmonic source's rotation over the step, (cosine, sine).
-    pub turn: (f64, f64),
 }
 
 /// The body and deformation after `h` from `(s0, x0, v0)`, if the deformation stays within
@@ -105,7 +103,6 @@ pub(super) fn elastic_step(
         v: dxi + vs1,
         impulse,
         v_r: dxi,
-        turn: (cos_w, sin_w),
     })
 }
 

@@ -24,12 +24,10 @@
 
 use super::contact::Contact;
 use super::drive::DriveKind;
-use super::dynamics::Dynamics;
 use super::elastic::{elastic_step, ElasticEnd, Forcing};
 use super::simulator::SimError;
-use crate::physics::{
-    trig, BranchStart, ElastoPlastic, FrictionLaw, InputTrack, Relaxation, Vector,
-};
+use super::stage_support::StageSupport;
+use crate::physics::{trig, BranchStart, ElastoPlastic, FrictionLaw, Relaxation, Vector};
 use crate::solver::dopri::{factor, first_step, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError};
 use crate::table::{Drive, InputId};
@@ -178,7 +176,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         &self,
         s_ba: f64,
         k_t: f64,
-        support: &StageSupport,
+        support: &StageSupport<V>,
         t: f64,
         t_target: f64,
         [s, x, v]: [f64; 3],
@@ -186,14 +184,15 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         if self.config.drive != Drive::Force || s.abs() >= s_ba || t >= t_target {
             return None;
         }
+        let (amp, omega, phase, c0, c1) = support.along_x(t);
         let forcing = Forcing {
             d0: self.dynamics.drive_inputs(t).f_d,
             d1: self.dynamics.tracks[InputId::FD.index()].slope,
-            amp: support.amp,
-            omega: support.omega,
-            phase: support.phase,
-            c0: support.track.map_or(0.0, |k| k.at(t)),
-            c1: support.track.map_or(0.0, |k| k.slope),
+            amp,
+            omega,
+            phase,
+            c0,
+            c1,
         };
         elastic_step(s, x, v, t_target - t, k_t, self.params.m, s_ba, &forcing)
     }
@@ -262,7 +261,6 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         }) {
             (s, x, v) = (end.s, end.x, end.v);
             integral += end.impulse;
-            support.turn(end.turn);
             t = t_target;
             self.radau.stats.steps += 1;
             if end.v_r != 0.0 {
@@ -303,7 +301,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 // Heading for a reversal: a step far across it is wasted (against the branch
                 // the deformation swings by 2·s_ss within a few s_ss of relative displacement),
                 // so end it a little past where v_r would vanish at its present rate of change.
-                let (vr, ar) = (k1[0], k1[2] - support.accel_now());
+                let (vr, ar) = (k1[0], k1[2] - support.accel_now(t));
                 if sigma * vr > 0.0 && sigma * ar < 0.0 {
                     hh = hh.min(PAST_REVERSAL * (-vr / ar));
                 }
@@ -333,7 +331,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             }
             // The support velocity at the stage times, and the deformation the right-hand side
             // finds at each (the last one is the step's end).
-            let (vs_at, turn) = support.stages(t, hh);
+            let vs_at = support.stages(t, hh).map(|w| w.x());
             let mut s_at = [s0; 7];
             let mut rhs = |i: usize, tt: f64, u: &[f64; 4]| {
                 let si = branch.at(u[0]);
@@ -419,7 +417,6 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             }
             stats.steps += 1;
             s = s_at[6];
-            support.turn(turn);
             x = u1[1];
             v = u1[2];
             integral += u1[3];
@@ -695,109 +692,6 @@ pub(super) fn root(
         }
     }
     b
-}
-
-/// The support velocity along x at the stage times of the explicit paths' steps (this one's,
-/// and the planar path's in one dimension): the harmonic source's phase carried from step to
-/// step by rotations (two sines and cosines per step rather
-/// than a cosine at each of its six stages), the input track at each time.
-pub(super) struct StageSupport {
-    /// The source's velocity amplitude along x (0 without a source).
-    amp: f64,
-    /// Its angular frequency.
-    omega: f64,
-    /// Cosine and sine of its phase at the current step's start.
-    phase: (f64, f64),
-    /// The support velocity input along x, when it is enabled.
-    track: Option<InputTrack>,
-}
-
-/// The product of two rotations given as (cosine, sine).
-#[inline(always)]
-pub(super) fn rot(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
-    (a.0 * b.0 - a.1 * b.1, a.1 * b.0 + a.0 * b.1)
-}
-
-/// The rotations by the phase `omega·C[i]·h` over the stages of a step of length `h` ([`C`]),
-/// from those over `h/10` and `h/9`, and the rotation over the whole step.
-#[inline(always)]
-pub(super) fn stage_rotations(omega: f64, h: f64) -> ([(f64, f64); 7], (f64, f64)) {
-    let (s, c) = trig::sin_cos(0.1 * omega * h);
-    let (s9, c9) = trig::sin_cos(omega * h / 9.0);
-    let r1 = (c, s);
-    let r2 = rot(r1, r1);
-    let r3 = rot(r2, r1);
-    let r4 = rot(r2, r2);
-    let r8 = rot(r4, r4);
-    let whole = rot(r8, r2);
-    let r89 = rot(whole, (c9, -s9));
-    ([(1.0, 0.0), r2, r3, r8, r89, whole, whole], whole)
-}
-
-impl StageSupport {
-    pub(super) fn new<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
-        dynamics: &Dynamics<V, L, D>,
-        input_support: bool,
-        t: f64,
-    ) -> Self {
-        let track = input_support.then(|| dynamics.tracks[InputId::VSx.index()]);
-        match &dynamics.harmonic {
-            Some(h) => {
-                let (sin, cos) = trig::sin_cos(h.theta(t));
-                StageSupport {
-                    amp: h.v_a() * h.dir.0,
-                    omega: std::f64::consts::TAU * h.f,
-                    phase: (cos, sin),
-                    track,
-                }
-            }
-            None => StageSupport {
-                amp: 0.0,
-                omega: 0.0,
-                phase: (1.0, 0.0),
-                track,
-            },
-        }
-    }
-
-    /// The support velocity at the current step's start `t`.
-    #[inline(always)]
-    fn now(&self, t: f64) -> f64 {
-        self.amp * self.phase.0 + self.track.map_or(0.0, |k| k.at(t))
-    }
-
-    /// The support velocity at the stage times `t + C[i]·h` of a step from `t`, and the
-    /// rotation over the whole step (for [`StageSupport::turn`] once it is accepted).
-    #[inline(always)]
-    pub(super) fn stages(&self, t: f64, h: f64) -> ([f64; 7], (f64, f64)) {
-        let mut w = [0.0; 7];
-        let mut whole = (1.0, 0.0);
-        if self.amp != 0.0 {
-            let rotations;
-            (rotations, whole) = stage_rotations(self.omega, h);
-            for (wi, r) in w.iter_mut().zip(rotations) {
-                *wi = self.amp * rot(self.phase, r).0;
-            }
-        }
-        if let Some(k) = &self.track {
-            for (wi, ci) in w.iter_mut().zip(C) {
-                *wi += k.at(t + ci * h);
-            }
-        }
-        (w, whole)
-    }
-
-    /// The support acceleration along x at the current step's start.
-    #[inline(always)]
-    fn accel_now(&self) -> f64 {
-        -self.amp * self.omega * self.phase.1 + self.track.map_or(0.0, |k| k.slope)
-    }
-
-    /// Moves the phase on over an accepted step.
-    #[inline(always)]
-    pub(super) fn turn(&mut self, whole: (f64, f64)) {
-        self.phase = rot(self.phase, whole);
-    }
 }
 
 #[cfg(test)]

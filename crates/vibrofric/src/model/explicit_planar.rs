@@ -12,7 +12,7 @@
 //! them (the results were those of the planar integration to the last bit on
 //! VibratingContactLuGre, 0.1 s at tolerances 1e-6 and 1e-8), and the support velocity at
 //! the stages comes from rotations of the harmonic phase as on the 1-D path; so it does at
-//! the stages of a plain step off the axis ([`plane_stage_support`]).
+//! the stages of a plain step off the axis (`stage_support.rs`).
 //! On the x axis `|v_r|` has a kink at each sign change of `v_rx`, across which a step's error
 //! estimate is not to be trusted: such a step is retaken to end just past the sign change, and a
 //! step rejected across one is retried to end there; one that ends a little short of it is
@@ -44,12 +44,11 @@ use super::coulomb_limit::Limit;
 use super::drive::{Axial, DriveInputs, DriveKind};
 use super::dynamics::{Dynamics, Eval, System};
 use super::explicit::{reach_ahead, weighed, PUSH_MARGIN, WEIGH_UP_TO};
-use super::explicit::{rot, stage_rotations, StageSupport};
 use super::simulator::SimError;
+use super::stage_support::StageSupport;
 use crate::physics::{trig, FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
 use crate::solver::{OdeSystem, Quad, SolverError, SolverStats};
-use crate::table::InputId;
 
 /// The largest width of the integrated vector: the state (6 in planar motion), the integrals
 /// of the friction force's `V::DIM` components and the relaxation arc length
@@ -65,8 +64,8 @@ const M_AXIAL: usize = 5;
 /// it the explicit method is accurate and about four to five times cheaper per attempted step
 /// (an exponential step is taken twice and interpolates: 1.8 against 0.44 µs on RigTransverse
 /// at `k_t` = 1e12 and 1e8, CPU time; the plain step about 30 % less since it is taken in
-/// place and its support velocity comes from rotations of the phase,
-/// [`plane_stage_support`]); at the default `k_t` = 1e8 nearly every step is below it,
+/// place and its support velocity comes from rotations of the phase, `stage_support.rs`); at
+/// the default `k_t` = 1e8 nearly every step is below it,
 /// from about 1e10 on nearly every step above. Between 0.5 and 1 the exponential step took no
 /// longer steps: VibratingContactLuGre (whose steps span 0.2 to 0.8 at 1e8) cost 48 µs per
 /// period at tolerance 1e-6 with a threshold of 0.5 and 36 µs with 1, its `F_Fx` error against
@@ -354,14 +353,10 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
     // With whether it was located on an accepted step's extension.
     let mut cut: Option<(f64, bool)> = None;
     let stats = &mut run.stats;
-    // In one dimension the support velocity at the stage times by rotations of the harmonic
-    // phase, as on the 1-D path: two sines and cosines per attempt rather than a cosine at
-    // each of its six stages.
-    let mut support = (V::DIM == 1).then(|| StageSupport::new(dynamics, sys.input_support, t));
+    // The support velocity at the stage times by rotations of the harmonic phase.
+    let mut support = StageSupport::<V>::new(dynamics, sys.input_support, t);
     // The last accepted step on the manifold, with its error, while the steps stay on it.
     let mut on_manifold: Option<(f64, f64)> = None;
-    // The harmonic source's phase at the last plain planar attempt's start and end.
-    let mut known = [(f64::NAN, (1.0, 0.0)); 2];
     // The plain steps' stages and derivatives, taken in place step after step.
     let mut plain = DoPriStep::zeros();
     while t < t_target {
@@ -422,27 +417,19 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
                 last = false;
             }
         }
-        // The support velocity at the stage times by rotations of the harmonic phase: in one
-        // dimension (with the rotation over the step, for `turn` once it is accepted), and in
-        // the plane for a plain step ([`plane_stage_support`]), looked up by stage.
-        let stage_support = support
-            .as_ref()
-            .map(|s| {
-                let (w, turn) = s.stages(t, hh);
-                (w.map(|w| V::from_xy(w, 0.0)), Some(turn))
-            })
-            .or_else(|| {
-                (V::DIM == 2 && !exponential)
-                    .then(|| (plane_stage_support(sys, &mut known, t, hh), None))
-            });
+        // The support velocity at the stage times by rotations of the harmonic phase
+        // (`stage_support.rs`): in one dimension for every step, in the plane for a plain
+        // step (the others take a few stages of a step and the manifold's points, where the
+        // rotations would save little).
+        let stage_support = (V::DIM == 1 || !exponential).then(|| support.stages(t, hh));
         // What the right-hand side needs at stage `i` of the step, time `tt`.
         let kin_stage = |i: usize, tt: f64, y: &[f64; M]| match &stage_support {
-            Some((w, _)) => Kin::with_support(sys, &eqs.relax, tt, &y[..N], w[i]),
+            Some(w) => Kin::with_support(sys, &eqs.relax, tt, &y[..N], w[i]),
             None => eqs.kin(tt, y),
         };
         // `v_r` at the step's start.
         let vr_start = || match &stage_support {
-            Some((w, _)) => {
+            Some(w) => {
                 let d = sys.dynamics.drive_inputs(t);
                 sys.dynamics.drive.velocity(&u[V::DIM..N], &d) - w[0]
             }
@@ -557,9 +544,6 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             integral[1] += u1[N + 1];
         }
         u = u1;
-        if let (Some(s), Some((_, Some(turn)))) = (support.as_mut(), stage_support) {
-            s.turn(turn);
-        }
         // After an exponential step the end's deformation is not the last stage's (after a
         // step on the manifold it is).
         fsal = (!exponential || limited).then_some(step.k[6]);
@@ -778,51 +762,6 @@ fn next_size(hh: f64, err: f64, rejected: bool, on_manifold: Option<(f64, f64)>)
         h_new = h_new.min(predicted.max(0.2 * hh));
     }
     h_new
-}
-
-/// The support velocity at the stage times `t + C[i]·h` of a planar step from `t` ([`C`]):
-/// the harmonic source's by rotations of its phase from the step's start, as on the 1-D path
-/// ([`StageSupport`]: two sines and cosines per attempt rather than a cosine at each of its
-/// five distinct stage times), the input tracks' at each time. `known` holds the phase
-/// (cosine, sine) at the last attempt's start and end (updated), so that an attempt after it
-/// carries it on; one that finds neither (the call's first, one after an exponential step or
-/// a step on the Coulomb limit) takes it afresh, so that the rotations' rounding adds up over
-/// at most the plain steps of one call.
-fn plane_stage_support<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
-    sys: &System<'_, V, L, D>,
-    known: &mut [(f64, (f64, f64)); 2],
-    t: f64,
-    h: f64,
-) -> [V; 7] {
-    let dynamics = sys.dynamics;
-    let mut w = [V::default(); 7];
-    if let Some(hm) = &dynamics.harmonic {
-        let phase = match known.iter().find(|(tk, _)| *tk == t) {
-            Some(&(_, p)) => p,
-            None => {
-                let (sin, cos) = trig::sin_cos(hm.theta(t));
-                (cos, sin)
-            }
-        };
-        let (rotations, whole) = stage_rotations(std::f64::consts::TAU * hm.f, h);
-        let v_a = hm.v_a();
-        for (wi, r) in w.iter_mut().zip(rotations) {
-            let v = v_a * rot(phase, r).0;
-            *wi = V::from_xy(v * hm.dir.0, v * hm.dir.1);
-        }
-        *known = [(t, phase), (t + h, rot(phase, whole))];
-    }
-    if sys.input_support {
-        let (x, y) = (
-            &dynamics.tracks[InputId::VSx.index()],
-            &dynamics.tracks[InputId::VSy.index()],
-        );
-        for (wi, ci) in w.iter_mut().zip(C) {
-            let tt = t + ci * h;
-            *wi = *wi + V::from_xy(x.at(tt), y.at(tt));
-        }
-    }
-    w
 }
 
 /// Just past the first sign change of `v_rx` within a step of length `hh` from `t` on the x axis

@@ -36,6 +36,7 @@ mod ode;
 mod setup;
 mod simulator;
 mod snapshot;
+mod stage_support;
 mod state;
 mod time;
 mod window;
