@@ -472,8 +472,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
 /// A step's deformation error `err` (scaled, at least 0) weighed by what it leaves, here and
 /// on the planar path ([`PUSH_MARGIN`]): given `pushed`, the velocity it pushes into the body
 /// on the same scale, and `left`, the fraction of it still in the deformation at the call's
-/// end, it counts as the larger of the two where the push is the smaller, else (or where
-/// `pushed` is NaN) as it is.
+/// end, it counts as `max(err·left, pushed)` where `pushed < err`, else (or where `pushed` is
+/// NaN) as `err`.
 #[inline(always)]
 pub(super) fn weighed(err: f64, pushed: f64, left: impl FnOnce() -> f64) -> f64 {
     if pushed < err {

@@ -12,7 +12,7 @@
 //! them (the results were those of the planar integration to the last bit on
 //! VibratingContactLuGre, 0.1 s at tolerances 1e-6 and 1e-8), and the support velocity at
 //! the stages comes from rotations of the harmonic phase as on the 1-D path; so it does at
-//! the stages of a plain step off the axis (`stage_support.rs`).
+//! the stages of a plain step off the axis ([`StageSupport`]).
 //! On the x axis `|v_r|` has a kink at each sign change of `v_rx`, across which a step's error
 //! estimate is not to be trusted: such a step is retaken to end just past the sign change, and a
 //! step rejected across one is retried to end there; one that ends a little short of it is
@@ -64,7 +64,7 @@ const M_AXIAL: usize = 5;
 /// it the explicit method is accurate and about four to five times cheaper per attempted step
 /// (an exponential step is taken twice and interpolates: 1.8 against 0.44 µs on RigTransverse
 /// at `k_t` = 1e12 and 1e8, CPU time; the plain step about 30 % less since it is taken in
-/// place and its support velocity comes from rotations of the phase, `stage_support.rs`); at
+/// place and its support velocity comes from rotations of the phase, [`StageSupport`]); at
 /// the default `k_t` = 1e8 nearly every step is below it,
 /// from about 1e10 on nearly every step above. Between 0.5 and 1 the exponential step took no
 /// longer steps: VibratingContactLuGre (whose steps span 0.2 to 0.8 at 1e8) cost 48 µs per
@@ -418,9 +418,8 @@ fn steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: us
             }
         }
         // The support velocity at the stage times by rotations of the harmonic phase
-        // (`stage_support.rs`): in one dimension for every step, in the plane for a plain
-        // step (the others take a few stages of a step and the manifold's points, where the
-        // rotations would save little).
+        // ([`StageSupport`]): in one dimension for every step, in the plane for a plain step
+        // (the exponential and manifold steps there take it at each stage themselves).
         let stage_support = (V::DIM == 1 || !exponential).then(|| support.stages(t, hh));
         // What the right-hand side needs at stage `i` of the step, time `tt`.
         let kin_stage = |i: usize, tt: f64, y: &[f64; M]| match &stage_support {
@@ -717,6 +716,7 @@ fn exponential_step<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, 
     }
     (step, u1, err_s, err, second)
 }
+
 /// Where the step after an accepted one of length `hh` from `t`, which ended on a sign change
 /// of `v_rx` located on a continuous extension, is to end when that one ended a little short
 /// of the sign change (by the extension's error), `vr0` and `vr_at` its `v_rx` at its start
@@ -1143,6 +1143,16 @@ mod tests {
         assert!(floor < 10.0 * hh);
         let tiny = next_size(hh, 1e-9, false, Some((hh, PREDICT_FLOOR)));
         assert!(close(tiny, floor));
+        // After a longer step the prediction shrinks by `hh/h_prev`.
+        let shorter = predicted * hh / (1.5 * hh);
+        assert!(close(
+            next_size(hh, err, false, Some((1.5 * hh, 0.1))),
+            shorter
+        ));
+        // A prediction below 0.2·hh (after a step ten times longer) is held there.
+        let held = next_size(hh, err, false, Some((10.0 * hh, 0.1)));
+        assert!(predicted * 0.1 < 0.2 * hh);
+        assert!(close(held, 0.2 * hh));
     }
 
     /// The bridge across a sign change of `v_rx` that a step ended short of: for `v_rx`
@@ -1155,18 +1165,21 @@ mod tests {
         let rate = -3.0;
         let root = t + hh + 2e-9;
         let vr = |tt: f64| rate * (tt - root);
-        let c = C;
-        let vr_at = c.map(|ci| vr(t + ci * hh));
+        let vr_at = C.map(|ci| vr(t + ci * hh));
         let end = bridge(t, hh, vr(t), &vr_at, 1.0).unwrap();
-        assert!((end - (t + hh + 4e-9)).abs() <= 1e-12 * hh, "{end}");
-        // Ended past the root: no bridge.
-        let past = c.map(|ci| vr(t + 2e-9 + ci * hh));
-        assert_eq!(bridge(t, hh, vr(t), &past, 1.0), None);
+        // The bridge's length, 4e-9, from velocities of about 3e-5 m/s that carry the times'
+        // rounding (1e-17 s in 1e-5 s): to about 1e-8 of it.
+        let length = end - (t + hh);
+        assert!((length - 4e-9).abs() <= 1e-6 * 4e-9, "{length}");
+        // Ended past the root (inside the step): no bridge.
+        let early = |tt: f64| rate * (tt - (t + hh - 2e-9));
+        let past = C.map(|ci| early(t + ci * hh));
+        assert_eq!(bridge(t, hh, early(t), &past, 1.0), None);
         // The root farther ahead than a sliver of the step.
         let far = t + hh + BRIDGE * hh;
         let vr_far = |tt: f64| rate * (tt - far);
         assert_eq!(
-            bridge(t, hh, vr_far(t), &c.map(|ci| vr_far(t + ci * hh)), 1.0),
+            bridge(t, hh, vr_far(t), &C.map(|ci| vr_far(t + ci * hh)), 1.0),
             None
         );
         // The bridge would reach the call's end.

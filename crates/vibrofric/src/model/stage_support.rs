@@ -12,14 +12,14 @@ use std::marker::PhantomData;
 
 /// The product of two rotations given as (cosine, sine).
 #[inline(always)]
-pub(super) fn rot(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+fn rot(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
     (a.0 * b.0 - a.1 * b.1, a.1 * b.0 + a.0 * b.1)
 }
 
 /// The rotations by the phase `omega·C[i]·h` over the stages of a step of length `h` ([`C`]),
 /// from those over `h/10` and `h/9`, and the rotation over the whole step.
 #[inline(always)]
-pub(super) fn stage_rotations(omega: f64, h: f64) -> ([(f64, f64); 7], (f64, f64)) {
+fn stage_rotations(omega: f64, h: f64) -> ([(f64, f64); 7], (f64, f64)) {
     let (s, c) = trig::sin_cos(0.1 * omega * h);
     let (s9, c9) = trig::sin_cos(omega * h / 9.0);
     let r1 = (c, s);
@@ -35,18 +35,21 @@ pub(super) fn stage_rotations(omega: f64, h: f64) -> ([(f64, f64); 7], (f64, f64
 /// The support velocity of one contact at the stage times of its explicit steps, in the
 /// contact's `V::DIM` dimensions.
 pub(super) struct StageSupport<V> {
-    /// The harmonic source, if any.
+    /// The harmonic source, if any (its phase at a time not known).
     harmonic: Option<Harmonic>,
-    /// Its velocity amplitude `v_a` (0 without one), that along x, its direction and its
-    /// angular frequency.
+    /// The source's velocity amplitude `v_a` (0 without one).
     v_a: f64,
+    /// Its velocity amplitude along x, `v_a·cos(angle)`.
     amp_x: f64,
+    /// Its direction (cosine and sine of `angle`).
     dir: (f64, f64),
+    /// Its angular frequency (0 without one).
     omega: f64,
-    /// The phase's cosine and sine at the last attempt's start and end (a time NaN until it
-    /// is known). An attempt from either carries the phase on by rotations; one from
-    /// elsewhere (after steps that took the support otherwise) takes it afresh, so that the
-    /// rotations' rounding adds up over at most the steps of one call.
+    /// The phase's cosine and sine at the last attempt's start and end (at the start of the
+    /// call before the first; the second's time NaN until then). An attempt from either
+    /// carries the phase on by rotations; one from elsewhere (after steps that took the
+    /// support otherwise) takes it afresh, so that the rotations' rounding adds up over at
+    /// most the steps of one call.
     known: [(f64, (f64, f64)); 2],
     /// The support velocity inputs along x and y, when they are enabled.
     tracks: Option<[InputTrack; 2]>,
@@ -110,8 +113,14 @@ impl<V: Vector> StageSupport<V> {
             let phase = self.phase(t);
             let (rotations, whole) = stage_rotations(self.omega, h);
             for (wi, r) in w.iter_mut().zip(rotations) {
-                let v = self.v_a * rot(phase, r).0;
-                *wi = V::from_xy(v * self.dir.0, v * self.dir.1);
+                let c = rot(phase, r).0;
+                // Along x alone as `now` takes it; in the plane as the source does.
+                *wi = if V::DIM == 1 {
+                    V::from_xy(self.amp_x * c, 0.0)
+                } else {
+                    let v = self.v_a * c;
+                    V::from_xy(v * self.dir.0, v * self.dir.1)
+                };
             }
             self.known = [(t, phase), (t + h, rot(phase, whole))];
         }
@@ -151,86 +160,92 @@ impl<V: Vector> StageSupport<V> {
 mod tests {
     use super::*;
     use crate::model::contact::Contact;
-    use crate::model::drive::Force;
+    use crate::model::drive::{Axial, Force};
     use crate::physics::{Dahl, Planar};
     use crate::table::{Config, Drive, Lateral, Law, Motion, Params};
 
-    fn config(motion: Motion) -> Config {
-        Config {
+    /// A planar Dahl contact under a force drive, its support vibrating at 2 kHz along the
+    /// angle 0.7, with the support velocity inputs at `ramps` (value and slope along x and y).
+    fn contact(u0: f64, ramps: [(f64, f64); 2]) -> Contact<Planar, Dahl, Force, 6> {
+        let c = Config {
             law: Law::Dahl,
-            motion,
+            motion: Motion::Planar,
             drive: Drive::Force,
             lateral: Lateral::Free,
             harmonic: true,
             input_support: true,
             normal_input: false,
-        }
-    }
-
-    /// Sets the support velocity inputs to ramps.
-    fn ramps<V: Vector, D: DriveKind<V>>(dynamics: &mut Dynamics<V, Dahl, D>) {
-        for (id, value, slope) in [(InputId::VSx, 1e-3, 0.2), (InputId::VSy, -2e-3, -0.5)] {
-            let track = &mut dynamics.tracks[id.index()];
-            (track.value, track.slope) = (value, slope);
-        }
-    }
-
-    /// The stage velocities by rotations agree with the source's own velocity at each stage
-    /// time (a cosine each) within rounding, attempt after attempt from a start known (a
-    /// rejected attempt's, an accepted one's end) or not (afresh), with the input tracks
-    /// added at each time; along x the velocity and acceleration at a step's start likewise.
-    #[test]
-    fn stage_velocities_are_the_sources() {
+        };
         let p = Params {
             f: 2000.0,
             angle: 0.7,
+            u0,
             ..Params::default()
         };
-        let mut contact =
-            Contact::<Planar, Dahl, Force, 6>::new_local(config(Motion::Planar), p, 1e-6);
-        ramps(&mut contact.dynamics);
-        let dynamics = contact.dynamics;
-        let mut support = StageSupport::<Planar>::new(&dynamics, true, 0.1);
-        let scale = dynamics.harmonic.unwrap().v_a() + 1e-3;
+        let mut contact = Contact::<Planar, Dahl, Force, 6>::new_local(c, p, 1e-6);
+        for (id, (value, slope)) in [InputId::VSx, InputId::VSy].into_iter().zip(ramps) {
+            let track = &mut contact.dynamics.tracks[id.index()];
+            (track.value, track.slope) = (value, slope);
+        }
+        contact
+    }
+
+    /// Attempts from a known start (a rejected attempt's, an accepted one's end) and from one
+    /// not known (afresh): `(h, how far the next start is, in steps)`.
+    const ATTEMPTS: [(f64, f64); 5] = [
+        (3e-5, 0.0),
+        (1e-5, 1.0),
+        (7e-5, 1.0),
+        (2e-5, 1.5),
+        (4e-5, 0.0),
+    ];
+
+    /// The harmonic source's velocity at the stage times by rotations agrees with its own (a
+    /// cosine at each time) within the rounding of its phase `theta(t)` (about
+    /// `2·pi·f·t·1e-16`, 3e-13 rad here), attempt after attempt; the input tracks' adds
+    /// exactly what they are at each time; along x (one dimension) the velocity at a step's
+    /// start is the first stage's, and the acceleration the source's own.
+    #[test]
+    fn stage_velocities_are_the_sources() {
+        let harmonic = contact(2e-7, [(0.0, 0.0); 2]).dynamics;
+        let v_a = harmonic.harmonic.unwrap().v_a();
+        let mut support = StageSupport::<Planar>::new(&harmonic, true, 0.1);
         let mut t = 0.1;
-        // Rejected (the same start again), accepted twice, then a start not known.
-        for (h, next) in [
-            (3e-5, 0.0),
-            (1e-5, 1.0),
-            (7e-5, 1.0),
-            (2e-5, 1.5),
-            (4e-5, 0.0),
-        ] {
-            let w = support.stages(t, h);
-            for (wi, ci) in w.iter().zip(C) {
-                let want = dynamics.support_velocity(t + ci * h, true);
-                assert!(
-                    (*wi - want).norm() <= 1e-14 * (scale + want.norm()),
-                    "t {t}, h {h}, c {ci}: {wi:?} vs {want:?}"
-                );
+        for (h, next) in ATTEMPTS {
+            for (wi, ci) in support.stages(t, h).iter().zip(C) {
+                let want = harmonic.support_velocity(t + ci * h, false);
+                assert!((*wi - want).norm() <= 1e-12 * v_a, "t {t}, h {h}, c {ci}");
             }
             t += next * h;
         }
-        let q = Params { angle: 0.0, ..p };
-        let mut line =
-            Contact::<f64, Dahl, Force, 3>::new_local(config(Motion::Longitudinal), q, 1e-6);
-        ramps(&mut line.dynamics);
-        let dynamics = line.dynamics;
-        let mut support = StageSupport::<f64>::new(&dynamics, true, 0.1);
+        // The tracks alone, the source still: exactly theirs.
+        let tracks = contact(0.0, [(1e-3, 0.2), (-2e-3, -0.5)]).dynamics;
+        let mut support = StageSupport::<Planar>::new(&tracks, true, 0.1);
+        for (wi, ci) in support.stages(0.1, 3e-5).iter().zip(C) {
+            let want = tracks.support_velocity(0.1 + ci * 3e-5, true);
+            assert_eq!((wi.x(), wi.y()), (want.x(), want.y()));
+        }
+        // Along x, the same contact integrated in one dimension, tracks and source together.
+        let both = contact(2e-7, [(1e-3, 0.2), (-2e-3, -0.5)]).dynamics;
+        let Some(Axial::Force(drive)) = DriveKind::<Planar>::axial(&both.drive) else {
+            panic!("a force drive has an axial form");
+        };
+        let line = both.with_drive::<f64, _>(drive);
+        let mut support = StageSupport::<f64>::new(&line, true, 0.1);
         let h = 3e-5;
-        support.stages(0.1, h);
-        for t in [0.1, 0.1 + h] {
-            let ((vx, _), (ax, _)) = dynamics.harmonic.unwrap().velocity_acceleration(t);
-            let track = dynamics.tracks[InputId::VSx.index()];
+        let w = support.stages(0.1, h);
+        let source = both.harmonic.unwrap();
+        let track = both.tracks[InputId::VSx.index()];
+        for (t, wi) in [(0.1, w[0]), (0.1 + h, w[6])] {
+            let ((vx, _), (ax, _)) = source.velocity_acceleration(t);
             let (v, a) = (vx + track.at(t), ax + track.slope);
-            assert!(
-                (support.now(t) - v).abs() <= 1e-14 * (scale + v.abs()),
-                "{t}"
-            );
-            // The rotated phase is within rounding of `theta(t)`, whose own rounding is
-            // about `2·pi·f·t·1e-16` (3e-13 rad here).
+            assert_eq!(support.now(t), wi, "{t}");
+            assert!((support.now(t) - v).abs() <= 1e-12 * v_a, "{t}");
             let acc = support.accel_now(t);
-            assert!((acc - a).abs() <= 1e-12 * a.abs(), "{t}: {acc} vs {a}");
+            assert!((acc - a).abs() <= 1e-12 * v_a * TAU_F, "{t}: {acc} vs {a}");
         }
     }
+
+    /// `2·pi·f` at the test's 2 kHz.
+    const TAU_F: f64 = std::f64::consts::TAU * 2000.0;
 }
