@@ -12,7 +12,7 @@ mod support;
 use support::scenes::{scene, standard_scenes};
 use vibrofric::description::scene::Scene;
 use vibrofric::model::{build, InputId, Integrator, Outputs, Setup, Simulator};
-use vibrofric::table::{Law, Motion};
+use vibrofric::table::{Law, Motion, Params};
 
 fn scenes() -> Vec<Scene> {
     standard_scenes().into_iter().map(|(_, s)| s).collect()
@@ -64,7 +64,7 @@ fn stiff_fast_paths_agree_with_radau() {
             s
         })
         .collect();
-    assert_eq!(stiff.len(), 8);
+    assert_eq!(stiff.len(), 9);
     compare(stiff);
 }
 
@@ -153,7 +153,7 @@ fn each_standard_scene_takes_the_path_its_structure_allows() {
             "VibratingContact" | "RigLongitudinal" | "VibratingContactDupont" => {
                 Integrator::Explicit
             }
-            "PaperTransverse" | "RigTransverse" | "VibratingContactLuGre" => {
+            "PaperTransverse" | "RigTransverse" | "VibratingContactLuGre" | "DrillStringAxial" => {
                 Integrator::ExplicitPlanar
             }
             _ => Integrator::Radau,
@@ -259,15 +259,29 @@ fn explicit_path_agrees_with_radau_at_tolerance_1e_12() {
 #[test]
 fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
     let planar = scenes_on(Integrator::ExplicitPlanar);
-    assert_eq!(planar.len(), 3);
+    assert_eq!(planar.len(), 4);
     for mut scene in planar {
         // LuGre's contact damping makes a stuck body's motion fast on the scale of the window
         // from about k_t = 1e10 at 2 kHz on: from there Radau takes it off the x axis (a
         // vibration at an angle), while on the axis the path keeps it (its stiff sliding on
-        // the slow manifold: `lugre_coulomb_limit_agrees_with_radau_at_1e_10`).
+        // the slow manifold: `lugre_coulomb_limit_agrees_with_radau_at_1e_10`). A body that
+        // no vibration keeps sliding (DrillStringAxial, held by its drive) may stick for long:
+        // Radau takes it from a tenth of that on (`k_t` = 1e9 at its mass).
         let lugre = scene.config.law == Law::LuGre;
-        let stiff = if lugre { 1e10 } else { 1e11 };
-        if lugre {
+        let held = lugre && !scene.config.harmonic;
+        let stiffness = if held {
+            vec![1e8]
+        } else if lugre {
+            vec![1e8, 1e10]
+        } else {
+            vec![1e8, 1e11]
+        };
+        if held {
+            let mut at = scene.start;
+            at.k_t = 1e9;
+            let sim = build(scene.config, at, 0.0, 1e-6).unwrap();
+            assert_eq!(sim.integrator(), Integrator::Radau);
+        } else if lugre {
             let mut at = scene.start;
             at.k_t = 1e11;
             let sim = build(scene.config, at, 0.0, 1e-6).unwrap();
@@ -279,7 +293,7 @@ fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
             let sim = build(scene.config, at, 0.0, 1e-6).unwrap();
             assert_eq!(sim.integrator(), Integrator::Radau);
         }
-        for k_t in [1e8, stiff] {
+        for k_t in stiffness {
             scene.start.k_t = k_t;
             agrees_with_radau_at_1e_12(&scene, Integrator::ExplicitPlanar);
         }
@@ -560,6 +574,47 @@ fn coulomb_limit_agrees_with_radau_at_1e_10() {
         assert_eq!(format!("{oa:?}"), format!("{ob:?}"));
         assert_eq!(format!("{oa:?}"), format!("{oc:?}"));
         assert_eq!(oa.f_fy.to_bits(), oc.f_fy.to_bits());
+    }
+}
+
+/// A LuGre contact in longitudinal motion is the planar one whose motion stays on the x axis:
+/// VibratingContactLuGre with `motion = "longitudinal"` takes the planar explicit path's steps
+/// in one dimension, and its outputs are those of the planar scene to the last bit, at the
+/// scene's stiffness and on the slow manifold at 1e12, tolerances 1e-6 and 1e-8, over 30 ms.
+#[test]
+fn longitudinal_lugre_takes_the_planar_paths_steps_on_the_axis() {
+    let planar = scene("contact-lugre.toml");
+    let mut line = planar.clone();
+    line.config.motion = Motion::Longitudinal;
+    for k_t in [1e8, 1e12] {
+        for tol in [1e-6, 1e-8] {
+            let sims = [&planar, &line].map(|s| {
+                let p = Params { k_t, ..s.start };
+                Setup::new(s.config, p)
+                    .inputs(s.inputs)
+                    .tolerance(tol)
+                    .build()
+                    .unwrap()
+            });
+            let [mut a, mut b] = sims;
+            assert_eq!(b.integrator(), Integrator::ExplicitPlanar);
+            for k in 1..=30 {
+                let t = k as f64 * 1e-3;
+                a.step_to(t).unwrap();
+                b.step_to(t).unwrap();
+                let (oa, ob) = (a.outputs(), b.outputs());
+                for (x, y) in [
+                    (oa.f_fx, ob.f_fx),
+                    (oa.f_mean, ob.f_mean),
+                    (oa.x, ob.x),
+                    (oa.v_x, ob.v_x),
+                    (oa.s_x, ob.s_x),
+                ] {
+                    assert_eq!(x.to_bits(), y.to_bits(), "k_t {k_t}, tol {tol}, {t} s");
+                }
+            }
+            assert_eq!(a.stats().steps, b.stats().steps);
+        }
     }
 }
 

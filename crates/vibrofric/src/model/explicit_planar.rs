@@ -1,7 +1,7 @@
 //! The explicit path of a moving body on a planar Dahl contact (`kappa = 1`): force or spring
 //! drive, or a velocity drive with the lateral motion free, whenever the motion leaves the x
 //! axis (on the axis the closed form of `explicit.rs` applies); and on a planar LuGre contact,
-//! on the axis or off it. LuGre's rate has the same form, `ds/dt = (|v_r|/g)·(q − s)` with
+//! on the axis or off it, or in longitudinal motion. LuGre's rate has the same form, `ds/dt = (|v_r|/g)·(q − s)` with
 //! `q = g·v_r/|v_r|`, its length `g(v_r)` depending on the relative velocity where Dahl's
 //! `s_ss` is constant: `λ = ∫|v_r|/g dt` and `q` take that `g`, and the force (with its
 //! damping `h_t·ds/dt`) follows from the deformation at each stage as in the general model.
@@ -158,11 +158,12 @@ const DAMPED_AXIAL_TOL: f64 = 1e-8;
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
     /// True when this contact takes the planar explicit path: a planar Dahl contact with
-    /// `kappa = 1` or a planar LuGre contact, at a constant load, whose body moves (force,
-    /// spring or free lateral motion), whose stuck oscillation is not fast on the scale of the
-    /// averaging window ([`STIFF_LIMIT`]; with LuGre's contact damping, [`DAMPED_LIMIT`]).
+    /// `kappa = 1` or a LuGre contact (planar or longitudinal), at a constant load, whose body
+    /// moves (force, spring or free lateral motion), whose stuck oscillation is not fast on
+    /// the scale of the averaging window ([`STIFF_LIMIT`]; with LuGre's contact damping,
+    /// [`DAMPED_LIMIT`]).
     pub(super) fn planar_explicit_path(&self) -> bool {
-        if V::DIM != 2 || D::N_BODY == 0 || self.radau_only || self.dynamics.load.is_some() {
+        if D::N_BODY == 0 || self.radau_only || self.dynamics.load.is_some() {
             return false;
         }
         let law = &self.dynamics.law;
@@ -215,7 +216,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     /// spring-driven body whose motion stays on the x axis ([`Contact::on_x_axis`]: LuGre,
     /// since Dahl there takes `explicit.rs`) is integrated in one dimension, its lateral
     /// deformation, position and velocity left at 0 (nothing moves them): the same steps on
-    /// a vector of 5 components instead of 9, about a quarter less time per step.
+    /// a vector of 5 components instead of 9, about a quarter less time per step; so is a
+    /// contact in longitudinal motion, on its own state (the same steps to the last bit:
+    /// VibratingContactLuGre in longitudinal motion, `tests/fast_path.rs`).
     pub(super) fn advance_planar(&mut self, t_target: f64, h_max: f64) -> Result<Quad, SimError> {
         let mut run = Run {
             tol: self.radau.tolerance(),
@@ -248,7 +251,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             None => {
                 let dynamics = self.dynamics;
                 let sys = self.system_on(&dynamics, &self.scale);
-                steps::<V, L, D, N, M_PLANAR>(&sys, &mut run, t, y.as_mut_slice())
+                if V::DIM == 1 {
+                    steps::<V, L, D, N, M_AXIAL>(&sys, &mut run, t, y.as_mut_slice())
+                } else {
+                    steps::<V, L, D, N, M_PLANAR>(&sys, &mut run, t, y.as_mut_slice())
+                }
             }
         };
         self.radau.stats = run.stats;
