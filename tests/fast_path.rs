@@ -300,6 +300,64 @@ fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
     }
 }
 
+/// A Dupont contact off the x axis, VibratingContactDupont with its vibration across the
+/// sliding direction and at 0.5 rad, on the planar explicit path (its plastic relaxation one
+/// more component of the explicit method; the direction test `s·v_r > 0`, which switches the
+/// relaxation on and off off the axis, is a jump of the rate the path does not locate, where
+/// Radau IIA does): at tolerance 1e-10 the friction components, their window mean, the
+/// deformation and the body's position and velocity no further from Radau at 1e-12 than Radau
+/// at 1e-10 is (or within 1e-10 of their scales). A stiff contact (`k_t` = 1e10) takes Radau.
+#[test]
+fn planar_dupont_off_the_axis_agrees_with_radau() {
+    let mut across = scene("contact-dupont.toml");
+    across.start.angle = std::f64::consts::FRAC_PI_2;
+    let mut stiff = across.clone();
+    stiff.start.k_t = 1e10;
+    let sim = build(stiff.config, stiff.start, 0.0, 1e-6).unwrap();
+    assert_eq!(sim.integrator(), Integrator::Radau);
+    let mut slanted = across.clone();
+    slanted.start.angle = 0.5;
+    for scene in [across, slanted] {
+        let Nominal {
+            f_c,
+            s_ss,
+            v_nom,
+            x_nom,
+        } = Nominal::of(&scene);
+        let (fast, path) = run(&scene, Integrator::ClosedForm, 1e-10, false);
+        assert_eq!(path, Integrator::ExplicitPlanar);
+        let (radau, _) = run(&scene, Integrator::Radau, 1e-10, false);
+        let (truth, _) = run(&scene, Integrator::Radau, 1e-12, false);
+        let worst = |a: &[Outputs], f: &dyn Fn(&Outputs) -> f64| {
+            a.iter()
+                .zip(&truth)
+                .map(|(x, y)| (f(x) - f(y)).abs())
+                .fold(0.0, f64::max)
+        };
+        let quantities: [(&str, &dyn Fn(&Outputs) -> f64, f64); 9] = [
+            ("F_Fx", &|o| o.f_fx, f_c),
+            ("F_Fy", &|o| o.f_fy, f_c),
+            ("F_mean", &|o| o.f_mean, f_c),
+            ("s_x", &|o| o.s_x, s_ss),
+            ("s_y", &|o| o.s_y, s_ss),
+            ("x", &|o| o.x, x_nom),
+            ("y", &|o| o.y, x_nom),
+            ("v_x", &|o| o.v_x, v_nom),
+            ("v_y", &|o| o.v_y, v_nom),
+        ];
+        for (q, f, scale) in quantities {
+            let (path_err, radau_err) = (worst(&fast, f), worst(&radau, f));
+            assert!(
+                path_err <= radau_err.max(1e-10 * scale),
+                "angle {}: {q} {:.2e} of its scale against Radau's {:.2e}",
+                scene.start.angle,
+                path_err / scale,
+                radau_err / scale
+            );
+        }
+    }
+}
+
 /// `scene` on its path (which must be `path`) at tolerance 1e-10 against Radau at 1e-12: both
 /// friction components, their window and step means, the deformation and the body's position
 /// and velocity in x and y within 1e-9 of their scales. The outputs of the path's run, each

@@ -55,7 +55,7 @@ const TOL_FRACTION: f64 = 0.4;
 /// tolerances 2.3e-7 and 5.5e-9; 1.5e-7 and 2.0e-9 before the breakaway predictor; when the
 /// fraction was chosen, before the reversal predictor: 0.03 gave 2.0e-7 and 1.9e-9, 0.1 1.1e-6
 /// and 5.4e-9, 0.45 3e-6 and 1e-8).
-const DUPONT_TOL_FRACTION: f64 = 0.03;
+pub(super) const DUPONT_TOL_FRACTION: f64 = 0.03;
 
 /// Short of a call's end, a step's error in the deformation is weighed by what it leaves: the
 /// velocity it pushes into the body before the branch relaxes it, and what is left of it at
