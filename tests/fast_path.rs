@@ -300,21 +300,28 @@ fn explicit_planar_path_agrees_with_radau_at_tolerance_1e_12() {
     }
 }
 
+/// An output's name, how to read it, and its scale.
+type Quantity<'a> = (&'a str, &'a dyn Fn(&Outputs) -> f64, f64);
+
 /// A Dupont contact off the x axis, VibratingContactDupont with its vibration across the
 /// sliding direction and at 0.5 rad, on the planar explicit path (its plastic relaxation one
 /// more component of the explicit method; the direction test `s·v_r > 0`, which switches the
 /// relaxation on and off off the axis, is a jump of the rate the path does not locate, where
 /// Radau IIA does): at tolerance 1e-10 the friction components, their window mean, the
 /// deformation and the body's position and velocity no further from Radau at 1e-12 than Radau
-/// at 1e-10 is (or within 1e-10 of their scales). A stiff contact (`k_t` = 1e10) takes Radau.
+/// at 1e-10 is (or within 1e-10 of their scales). A stiff contact (`k_t` = 1e10), and one
+/// whose weight rises steeply to `s_ss` (breakaway ratio 0.95), take Radau.
 #[test]
 fn planar_dupont_off_the_axis_agrees_with_radau() {
     let mut across = scene("contact-dupont.toml");
     across.start.angle = std::f64::consts::FRAC_PI_2;
-    let mut stiff = across.clone();
-    stiff.start.k_t = 1e10;
-    let sim = build(stiff.config, stiff.start, 0.0, 1e-6).unwrap();
-    assert_eq!(sim.integrator(), Integrator::Radau);
+    let (mut stiff, mut steep) = (across.start, across.start);
+    stiff.k_t = 1e10;
+    steep.r_ba = 0.95;
+    for p in [stiff, steep] {
+        let sim = build(across.config, p, 0.0, 1e-6).unwrap();
+        assert_eq!(sim.integrator(), Integrator::Radau);
+    }
     let mut slanted = across.clone();
     slanted.start.angle = 0.5;
     for scene in [across, slanted] {
@@ -334,7 +341,7 @@ fn planar_dupont_off_the_axis_agrees_with_radau() {
                 .map(|(x, y)| (f(x) - f(y)).abs())
                 .fold(0.0, f64::max)
         };
-        let quantities: [(&str, &dyn Fn(&Outputs) -> f64, f64); 9] = [
+        let quantities: [Quantity; 9] = [
             ("F_Fx", &|o| o.f_fx, f_c),
             ("F_Fy", &|o| o.f_fy, f_c),
             ("F_mean", &|o| o.f_mean, f_c),
