@@ -103,7 +103,15 @@ fn an_input_load_and_a_parameter_load_agree() {
         ParamId::FN.set(&mut p, f_n).unwrap();
         let mut a = on_radau(&by_param, p);
         let mut b = on_radau(&by_input, by_input.start);
-        assert_eq!(b.integrator(), Integrator::Radau);
+        // Left to itself the parameter load takes the explicit path, but at 400 N, where the
+        // contact damping (which follows the load) is too fast for a held body.
+        let path = start(&by_param, p).integrator();
+        let own = if f_n < 400.0 {
+            Integrator::ExplicitPlanar
+        } else {
+            Integrator::Radau
+        };
+        assert_eq!(path, own, "F_N {f_n}");
         b.set_input(InputId::FN, f_n).unwrap();
         for sim in [&mut a, &mut b] {
             sim.set_input(InputId::VSx, 0.02).unwrap();

@@ -2,7 +2,8 @@
 //! drive, or a velocity drive with the lateral motion free, whenever the motion leaves the x
 //! axis (on the axis the closed form of `explicit.rs` applies); on a planar LuGre contact,
 //! on the axis or off it, or in longitudinal motion; and on a planar Dupont contact off the
-//! axis at a moderate stiffness ([`DUPONT_LIMIT`]), whose weight `alpha(s)` leaves its rate
+//! axis (or on it with the lateral motion free, which `explicit.rs` does not take) at a
+//! moderate stiffness ([`DUPONT_LIMIT`]), whose weight `alpha(s)` leaves its rate
 //! without the form below: its plastic relaxation is one more component of the explicit
 //! method, and its direction test `s·v_r > 0`, which switches that relaxation on and off (a
 //! jump of the rate off the axis), is not located but left to the error control (a tighter
@@ -37,8 +38,9 @@
 //! end comes from the second pass's extension, its error from the interpolant of one degree
 //! less. Shorter steps integrate `s` as one more component of the explicit method.
 //!
-//! The deformation's rate `v_r − |v_r|·s/s_ss` is Lipschitz continuous everywhere (its kink
-//! where `v_r` passes through zero in the plane is a point, found by the error control). While
+//! Dahl's and LuGre's deformation rate `v_r − |v_r|·s/s_ss` is Lipschitz continuous
+//! everywhere (its kink where `v_r` passes through zero in the plane is a point, found by the
+//! error control). While
 //! the body sticks it sits on the contact as on a spring `k_t`: the explicit method then steps
 //! at about `3/sqrt(k_t/m)`, which the error control finds by itself; the path is taken while
 //! that allows enough steps per averaging window ([`STIFF_LIMIT`]), and Radau IIA takes the

@@ -143,7 +143,9 @@ pub trait Simulator: Send + Exchange {
     /// one (see the implementation for which); `None` elsewhere.
     fn output_derivative(&self, id: OutputId) -> Option<f64>;
     fn stats(&self) -> StepStats;
-    /// The integrator this simulator steps with.
+    /// The integrator the next step takes: chosen again at every step from the contact's
+    /// structure and, where a path holds only within limits, from its state and inputs (the
+    /// motion leaving the x axis, a Dupont body sliding too fast for the planar explicit path).
     fn integrator(&self) -> Integrator;
     /// The complete state; [`Simulator::restore`] on a simulator built with the same
     /// configuration continues bit for bit.

@@ -175,8 +175,9 @@ pub struct Steady {
 
 /// One friction law with its constants precomputed from [`Params`].
 pub trait FrictionLaw: Copy + Send + Sync + std::fmt::Debug + 'static {
-    /// Whether the law has a discontinuity off `v_r = 0` in planar motion that the integrator
-    /// must locate (Dupont's direction test `s·v_r = 0`).
+    /// Whether the law has a discontinuity off `v_r = 0` in planar motion (Dupont's direction
+    /// test `s·v_r = 0`): Radau IIA locates it; the planar explicit path leaves it to its error
+    /// control.
     const PLANAR_SWITCH: bool;
 
     fn new(p: &Params) -> Self;
