@@ -8,6 +8,7 @@ use super::dynamics::Dynamics;
 use crate::physics::{trig, FrictionLaw, Harmonic, InputTrack, Vector};
 use crate::solver::dopri::C;
 use crate::table::InputId;
+use std::f64::consts::TAU;
 use std::marker::PhantomData;
 
 /// The product of two rotations given as (cosine, sine).
@@ -35,15 +36,11 @@ fn stage_rotations(omega: f64, h: f64) -> ([(f64, f64); 7], (f64, f64)) {
 /// The support velocity of one contact at the stage times of its explicit steps, in the
 /// contact's `V::DIM` dimensions.
 pub(super) struct StageSupport<V> {
-    /// The harmonic source, if any (its phase at a time not known).
+    /// The harmonic source, if any.
     harmonic: Option<Harmonic>,
-    /// The source's velocity amplitude `v_a` (0 without one).
-    v_a: f64,
-    /// Its velocity amplitude along x, `v_a·cos(angle)`.
+    /// Its velocity amplitude along x, `v_a·cos(angle)`, and angular frequency (0 without
+    /// one): the 1-D path reads them at every step.
     amp_x: f64,
-    /// Its direction (cosine and sine of `angle`).
-    dir: (f64, f64),
-    /// Its angular frequency (0 without one).
     omega: f64,
     /// The phase's cosine and sine at the last attempt's start and end (at the start of the
     /// call before the first; the second's time NaN until then). An attempt from either
@@ -69,10 +66,8 @@ impl<V: Vector> StageSupport<V> {
         let h = dynamics.harmonic;
         let mut support = StageSupport {
             harmonic: h,
-            v_a: h.map_or(0.0, |h| h.v_a()),
             amp_x: h.map_or(0.0, |h| h.v_a() * h.dir.0),
-            dir: h.map_or((0.0, 0.0), |h| h.dir),
-            omega: h.map_or(0.0, |h| std::f64::consts::TAU * h.f),
+            omega: h.map_or(0.0, |h| TAU * h.f),
             known: [(f64::NAN, (1.0, 0.0)); 2],
             tracks,
             dim: PhantomData,
@@ -109,17 +104,18 @@ impl<V: Vector> StageSupport<V> {
     #[inline(always)]
     pub(super) fn stages(&mut self, t: f64, h: f64) -> [V; 7] {
         let mut w = [V::default(); 7];
-        if self.harmonic.is_some() {
+        if let Some(hm) = &self.harmonic {
             let phase = self.phase(t);
             let (rotations, whole) = stage_rotations(self.omega, h);
+            let (v_a, dir) = (hm.v_a(), hm.dir);
             for (wi, r) in w.iter_mut().zip(rotations) {
                 let c = rot(phase, r).0;
                 // Along x alone as `now` takes it; in the plane as the source does.
                 *wi = if V::DIM == 1 {
                     V::from_xy(self.amp_x * c, 0.0)
                 } else {
-                    let v = self.v_a * c;
-                    V::from_xy(v * self.dir.0, v * self.dir.1)
+                    let v = v_a * c;
+                    V::from_xy(v * dir.0, v * dir.1)
                 };
             }
             self.known = [(t, phase), (t + h, rot(phase, whole))];
