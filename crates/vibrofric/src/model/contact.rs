@@ -206,7 +206,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         }
     }
 
-    fn eval_now(&self) -> Eval<V> {
+    /// Everything at the current time and state.
+    pub(super) fn eval_now(&self) -> Eval<V> {
         self.system().eval(self.radau.t, self.radau.y.as_slice())
     }
 

@@ -7,8 +7,8 @@
 //! without the form below: its plastic relaxation is one more component of the explicit
 //! method, and its direction test `s·v_r > 0`, which switches that relaxation on and off (a
 //! jump of the rate off the axis), is not located but left to the error control (a tighter
-//! one, [`DUPONT_TOL_FRACTION`], as on the 1-D path). LuGre's rate has the same form, `ds/dt = (|v_r|/g)·(q − s)` with
-//! `q = g·v_r/|v_r|`, its length `g(v_r)` depending on the relative velocity where Dahl's
+//! one, [`DUPONT_TOL_FRACTION`], as on the 1-D path). LuGre's rate has the same form,
+//! `ds/dt = (|v_r|/g)·(q − s)` with `q = g·v_r/|v_r|`, its length `g(v_r)` depending on the relative velocity where Dahl's
 //! `s_ss` is constant: `λ = ∫|v_r|/g dt` and `q` take that `g`, and the force (with its
 //! damping `h_t·ds/dt`) follows from the deformation at each stage as in the general model.
 //! A force- or spring-driven body whose motion stays on the x axis (no lateral deformation,
@@ -206,12 +206,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             {
                 return false;
             }
-            let t = self.radau.t;
-            let d = self.dynamics.drive_inputs(t);
-            let body = &self.radau.y.as_slice()[V::DIM..];
-            let vr = self.dynamics.drive.velocity(body, &d)
-                - self.dynamics.support_velocity(t, self.config.input_support);
-            let v = vr.norm() + self.dynamics.harmonic.map_or(0.0, |h| h.v_a());
+            let v = self.eval_now().vr.norm() + self.dynamics.harmonic.map_or(0.0, |h| h.v_a());
             let rate = (relax.stiffness / self.params.m)
                 .sqrt()
                 .max(v / relax.length);
