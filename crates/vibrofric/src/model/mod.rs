@@ -38,6 +38,7 @@ mod simulator;
 mod snapshot;
 mod stage_support;
 mod state;
+pub mod string;
 mod time;
 mod window;
 

@@ -6,12 +6,14 @@
 //!   extension, for the smooth pieces of a moving body's motion;
 //! - [`expint`]: exponential integration of a deformation relaxing toward a moving target at a
 //!   scalar rate, explicit and of the same cost at any stiffness;
-//! - [`quadrature`]: adaptive Gauss–Kronrod 7/15, for integrals of closed-form solutions.
+//! - [`quadrature`]: adaptive Gauss–Kronrod 7/15, for integrals of closed-form solutions;
+//! - [`band`]: Radau IIA on systems of any size with banded Jacobians (a string of contacts).
 
 // Numerical kernels index several arrays in lockstep (stages, Butcher rows, matrix entries);
 // index loops say that more plainly than zipped iterators.
 #![allow(clippy::needless_range_loop)]
 
+pub mod band;
 pub mod dopri;
 pub mod expint;
 mod lu;

@@ -26,7 +26,7 @@
 mod control;
 mod events;
 mod newton;
-mod tableau;
+pub(super) mod tableau;
 
 use nalgebra::{SMatrix, SVector};
 

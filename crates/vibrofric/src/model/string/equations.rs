@@ -1,0 +1,271 @@
+//! The equations of a string of contacts: `N` bodies in a line along x, section `i` on its own
+//! contact of the scene's law, joined to section `i + 1` by a spring `k_s[i]` and a damper
+//! `c_s[i]`, section 1 held by `k_top`, `c_top` to a point moving at `v_top`, section `N` by
+//! `k_bottom`, `c_bottom` to a point moving at `v_bottom` (`docs/model.md`, "Strings of
+//! contacts"):
+//!
+//! ```text
+//! F_link[i] = k_s[i]·(x[i+1] − x[i]) + c_s[i]·(v[i+1] − v[i])            (tension positive)
+//! F_top     = k_top·(x_top − x[1]) + c_top·(v_top − v[1])
+//! F_bottom  = k_bottom·(x[N] − x_bottom) + c_bottom·(v[N] − v_bottom)
+//! m[i]·dv[i]/dt = F_d[i] + F_link[i] − F_link[i−1] (+ F_top at 1, − F_bottom at N) − F_Fx[i]
+//! ds[i]/dt = the law's rate at (s[i], v[i] − v_sx[i]),   F_Fx[i] = the law's force
+//! ```
+//!
+//! The state is `[x_1, v_1, s_1, x_2, v_2, s_2, ...]`: each row couples a section only to its
+//! neighbours, so the Jacobian is banded (4 sub-, 3 super-diagonals) and the stiff integrator's
+//! work is linear in `N` ([`crate::solver::band`]).
+
+use crate::physics::{FrictionLaw, Harmonic, InputTrack};
+use crate::solver::band::{Band, BandSystem};
+use crate::table::Params;
+
+use super::super::dynamics::loaded;
+
+/// Components of the state per section.
+pub const PER_SECTION: usize = 3;
+
+/// The inputs of a string: one track per section for the drive force, the support velocity and
+/// (where it is an input) the normal force; one for each end's moving point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StringInputs {
+    pub f_d: Vec<InputTrack>,
+    pub v_sx: Vec<InputTrack>,
+    /// Empty where the normal force is a parameter.
+    pub f_n: Vec<InputTrack>,
+    pub v_top: InputTrack,
+    pub v_bottom: InputTrack,
+    /// The ends' points `x_top`, `x_bottom` at the tracks' reference times.
+    pub x_top_ref: f64,
+    pub x_bottom_ref: f64,
+}
+
+impl StringInputs {
+    pub fn zero(n: usize, normal_input: bool, f_n: &[f64], t: f64) -> Self {
+        let track = |value| InputTrack {
+            t_ref: t,
+            value,
+            slope: 0.0,
+        };
+        StringInputs {
+            f_d: vec![track(0.0); n],
+            v_sx: vec![track(0.0); n],
+            f_n: if normal_input {
+                f_n.iter().map(|&v| track(v)).collect()
+            } else {
+                Vec::new()
+            },
+            v_top: track(0.0),
+            v_bottom: track(0.0),
+            x_top_ref: 0.0,
+            x_bottom_ref: 0.0,
+        }
+    }
+
+    /// The top point's position at `t`: the exact integral of its velocity.
+    pub fn x_top(&self, t: f64) -> f64 {
+        self.x_top_ref + self.v_top.integral(t)
+    }
+
+    pub fn x_bottom(&self, t: f64) -> f64 {
+        self.x_bottom_ref + self.v_bottom.integral(t)
+    }
+}
+
+/// One section's contact: its law at its load (rebuilt from the load input where it is one) and
+/// its mass.
+#[derive(Clone, Copy, Debug)]
+pub struct Section<L> {
+    pub law: L,
+    /// The section's parameters (its `m`, `mu`, `F_N`, `F_S` and the shared law parameters),
+    /// with its own reference load, from which the law at an input load is scaled.
+    pub params: Params,
+    pub inv_m: f64,
+}
+
+/// The ends and links.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Links {
+    /// `k_s[i]`, `c_s[i]` of the link between sections `i` and `i + 1` (N − 1 of each).
+    pub k_s: Vec<f64>,
+    pub c_s: Vec<f64>,
+    pub k_top: f64,
+    pub c_top: f64,
+    pub k_bottom: f64,
+    pub c_bottom: f64,
+}
+
+/// The right-hand side of the string: everything the integrator needs, nothing it changes.
+#[derive(Clone, Debug)]
+pub struct StringModel<L> {
+    pub sections: Vec<Section<L>>,
+    pub links: Links,
+    pub harmonic: Option<Harmonic>,
+    pub inputs: StringInputs,
+}
+
+/// The forces at one state: friction per section and the two ends (links are computed where
+/// needed).
+pub struct Forces {
+    pub top: f64,
+    pub bottom: f64,
+}
+
+impl<L: FrictionLaw> StringModel<L> {
+    pub fn n(&self) -> usize {
+        self.sections.len()
+    }
+
+    /// The law of section `i` at time `t` (at its load input where the load is one).
+    #[inline(always)]
+    pub fn law(&self, i: usize, t: f64) -> L {
+        match self.inputs.f_n.get(i) {
+            Some(track) => L::new(&loaded(&self.sections[i].params, track.at(t).max(0.0))),
+            None => self.sections[i].law,
+        }
+    }
+
+    /// The support velocity under section `i` at `t`.
+    #[inline(always)]
+    pub fn support(&self, i: usize, t: f64) -> f64 {
+        let h = self.harmonic.map_or(0.0, |h| h.velocity(t).0);
+        self.inputs.v_sx[i].at(t) + h
+    }
+
+    /// `(ds/dt, F_Fx)` of section `i` at `t` with position-velocity-deformation `y`.
+    #[inline(always)]
+    pub fn contact(&self, i: usize, t: f64, v: f64, s: f64) -> (f64, f64) {
+        let law = self.law(i, t);
+        let vr = v - self.support(i, t);
+        let ds = law.rate(s, vr);
+        (ds, law.force(s, vr, ds))
+    }
+
+    /// The force in link `i` (between sections `i` and `i + 1`, 0-based), tension positive.
+    #[inline(always)]
+    pub fn link(&self, i: usize, y: &[f64]) -> f64 {
+        let (a, b) = (PER_SECTION * i, PER_SECTION * (i + 1));
+        self.links.k_s[i] * (y[b] - y[a]) + self.links.c_s[i] * (y[b + 1] - y[a + 1])
+    }
+
+    /// The end forces at `t`: `F_top` on section 1, `F_bottom` of section N on its holder.
+    #[inline(always)]
+    pub fn ends(&self, t: f64, y: &[f64]) -> Forces {
+        let l = &self.links;
+        let last = PER_SECTION * (self.n() - 1);
+        let inp = &self.inputs;
+        Forces {
+            top: l.k_top * (inp.x_top(t) - y[0]) + l.c_top * (inp.v_top.at(t) - y[1]),
+            bottom: l.k_bottom * (y[last] - inp.x_bottom(t))
+                + l.c_bottom * (y[last + 1] - inp.v_bottom.at(t)),
+        }
+    }
+}
+
+impl<L: FrictionLaw> BandSystem for StringModel<L> {
+    fn dim(&self) -> usize {
+        PER_SECTION * self.n()
+    }
+
+    fn bands(&self) -> (usize, usize) {
+        // v_i depends on x_{i−1} (4 columns left) and v_{i+1} (3 columns right).
+        (4, 3)
+    }
+
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let n = self.n();
+        let ends = self.ends(t, y);
+        let mut left = 0.0; // F_link[i − 1]
+        for i in 0..n {
+            let k = PER_SECTION * i;
+            let (v, s) = (y[k + 1], y[k + 2]);
+            let (ds, f) = self.contact(i, t, v, s);
+            let right = if i + 1 < n { self.link(i, y) } else { 0.0 };
+            let mut force = self.inputs.f_d[i].at(t) + right - left - f;
+            if i == 0 {
+                force += ends.top;
+            }
+            if i + 1 == n {
+                force -= ends.bottom;
+            }
+            dy[k] = v;
+            dy[k + 1] = force * self.sections[i].inv_m;
+            dy[k + 2] = ds;
+            left = right;
+        }
+    }
+
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut Band<f64>) {
+        let n = self.n();
+        let l = &self.links;
+        for i in 0..n {
+            let k = PER_SECTION * i;
+            let (v, s) = (y[k + 1], y[k + 2]);
+            let law = self.law(i, t);
+            let vr = v - self.support(i, t);
+            let ds = law.rate(s, vr);
+            let lj = law.jacobian(s, vr, ds);
+            let inv_m = self.sections[i].inv_m;
+            // Stiffness and damping that hold section i to its neighbours and ends.
+            let (mut k_sum, mut c_sum) = (0.0, 0.0);
+            if i > 0 {
+                let (ks, cs) = (l.k_s[i - 1], l.c_s[i - 1]);
+                jac.set(k + 1, k - PER_SECTION, ks * inv_m);
+                jac.set(k + 1, k - PER_SECTION + 1, cs * inv_m);
+                k_sum += ks;
+                c_sum += cs;
+            }
+            if i + 1 < n {
+                let (ks, cs) = (l.k_s[i], l.c_s[i]);
+                jac.set(k + 1, k + PER_SECTION, ks * inv_m);
+                jac.set(k + 1, k + PER_SECTION + 1, cs * inv_m);
+                k_sum += ks;
+                c_sum += cs;
+            }
+            if i == 0 {
+                k_sum += l.k_top;
+                c_sum += l.c_top;
+            }
+            if i + 1 == n {
+                k_sum += l.k_bottom;
+                c_sum += l.c_bottom;
+            }
+            jac.set(k, k + 1, 1.0);
+            jac.set(k + 1, k, -k_sum * inv_m);
+            jac.set(k + 1, k + 1, -(c_sum + lj.force_v[0][0]) * inv_m);
+            jac.set(k + 1, k + 2, -lj.force_s[0][0] * inv_m);
+            jac.set(k + 2, k + 1, lj.rate_v[0][0]);
+            jac.set(k + 2, k + 2, lj.rate_s[0][0]);
+        }
+    }
+
+    /// The velocity and the deformation to their natural scales plus their magnitudes; the
+    /// positions nearly absolutely (the links feel their differences, not the distance
+    /// travelled: a millionth of `|x|`), to the larger of the deformation scale and what the
+    /// velocity's scale is in position over the section's fastest time constant `sqrt(m/k)`
+    /// (`k` the contact's and links' stiffness together).
+    fn error_scale(&self, y: &[f64], out: &mut [f64]) {
+        let u0 = self.harmonic.map_or(0.0, |h| h.u0);
+        let v_a = self.harmonic.map_or(0.0, |h| h.v_a());
+        let n = self.n();
+        let l = &self.links;
+        for (i, sec) in self.sections.iter().enumerate() {
+            let k = PER_SECTION * i;
+            let s_nom = sec.law.s_scale();
+            let v_nom = v_a
+                .max(s_nom * (sec.params.k_t / sec.params.m).sqrt())
+                .max(1e-9);
+            let mut stiffness = sec.params.k_t;
+            if i > 0 {
+                stiffness += l.k_s[i - 1];
+            }
+            if i + 1 < n {
+                stiffness += l.k_s[i];
+            }
+            let omega = (stiffness * sec.inv_m).sqrt();
+            out[k] = s_nom.max(u0).max(v_nom / omega) + 1e-6 * y[k].abs();
+            out[k + 1] = v_nom + y[k + 1].abs();
+            out[k + 2] = s_nom + y[k + 2].abs();
+        }
+    }
+}

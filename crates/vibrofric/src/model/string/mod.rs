@@ -1,0 +1,505 @@
+//! A string of contacts: `N` sections in a line, each a body on its own contact, joined by
+//! springs and dampers, the ends held to points the importer moves (a drill string's sections on
+//! the borehole wall). A room of its own: its state is the whole string's, integrated together by
+//! Radau IIA on the banded Jacobian of the chain ([`crate::solver::band`]), so that one call
+//! advances every section and the stiff links and ends are resolved inside the step, at the
+//! contact's tolerance, whatever the communication step.
+//!
+//! - `equations.rs`: the right-hand side, its banded Jacobian and the forces;
+//! - this file: parameters and their rules, inputs, stepping to communication points with the
+//!   step means of the friction and end forces (the collocation quadrature of each accepted
+//!   step), outputs.
+
+mod equations;
+
+pub use equations::{Links, Section, StringInputs, StringModel, PER_SECTION};
+
+use crate::physics::{Dahl, Dupont, FrictionLaw, Harmonic, InputTrack, LuGre};
+use crate::solver::band::{BandRadau, BandWork};
+use crate::solver::{B, C};
+use crate::table::{number, InputId, Law, ParamId, Params};
+
+use super::simulator::{SimError, StepStats, TOLERANCE_RANGE};
+use super::time::MAX_INPUT_RATE;
+
+/// Most sections a string may have.
+pub const MAX_SECTIONS: usize = 100_000;
+
+/// What a string is made of: the law, whether the support vibrates harmonically (the same
+/// source under every section) and whether the normal forces are inputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StringConfig {
+    pub law: Law,
+    pub harmonic: bool,
+    pub normal_input: bool,
+}
+
+/// The parameters of a string. `shared` holds the law's parameters common to every section (and
+/// the harmonic source's, the step budget); the per-section arrays override its `m`, `mu`,
+/// `F_N` and `F_S`, each section's start load being its own reference load (so that `F_S[i]` is
+/// given at section `i`'s load and `zeta_t` is the damping ratio of every section at its own).
+#[derive(Clone, Debug, PartialEq)]
+pub struct StringParams {
+    pub shared: Params,
+    pub m: Vec<f64>,
+    pub mu: Vec<f64>,
+    pub f_n: Vec<f64>,
+    pub f_s: Vec<f64>,
+    pub links: Links,
+}
+
+impl StringParams {
+    /// `n` sections of the shared parameters' `m`, `mu`, `F_N`, `F_S`, links of stiffness
+    /// `k_s` and damping `c_s`, free ends.
+    pub fn uniform(n: usize, shared: Params, k_s: f64, c_s: f64) -> Self {
+        StringParams {
+            shared,
+            m: vec![shared.m; n],
+            mu: vec![shared.mu; n],
+            f_n: vec![shared.f_n; n],
+            f_s: vec![shared.f_s; n],
+            links: Links {
+                k_s: vec![k_s; n.saturating_sub(1)],
+                c_s: vec![c_s; n.saturating_sub(1)],
+                k_top: 0.0,
+                c_top: 0.0,
+                k_bottom: 0.0,
+                c_bottom: 0.0,
+            },
+        }
+    }
+
+    pub fn sections(&self) -> usize {
+        self.m.len()
+    }
+
+    /// Section `i`'s parameters, with its start load as its reference load.
+    pub fn section(&self, i: usize) -> Params {
+        let mut p = self.shared;
+        p.m = self.m[i];
+        p.mu = self.mu[i];
+        p.f_n = self.f_n[i];
+        p.f_s = self.f_s[i];
+        p.f_n_ref = p.f_n;
+        p.mu_ref = p.mu;
+        p
+    }
+
+    /// Every rule: the shared parameters' own, each section's `m`, `mu`, `F_N`, `F_S` by the
+    /// scalar's rule (named with its index, 1-based), the links' and ends' (finite, ≥ 0), the
+    /// array lengths, and LuGre's `F_S ≥ F_C` per section.
+    pub fn validate(&self, law: Law) -> Result<(), SimError> {
+        let n = self.sections();
+        if n == 0 || n > MAX_SECTIONS {
+            return Err(SimError::Inconsistent(format!(
+                "sections = {n}: a string has 1 to {MAX_SECTIONS} sections"
+            )));
+        }
+        for (name, len, want) in [
+            ("mu", self.mu.len(), n),
+            ("F_N", self.f_n.len(), n),
+            ("F_S", self.f_s.len(), n),
+            ("k_s", self.links.k_s.len(), n - 1),
+            ("c_s", self.links.c_s.len(), n - 1),
+        ] {
+            if len != want {
+                return Err(SimError::Inconsistent(format!(
+                    "{name} has {len} values: a string of {n} sections needs {want}"
+                )));
+            }
+        }
+        self.shared.validate()?;
+        for (id, values) in [
+            (ParamId::M, &self.m),
+            (ParamId::Mu, &self.mu),
+            (ParamId::FN, &self.f_n),
+            (ParamId::FS, &self.f_s),
+        ] {
+            for (i, &v) in values.iter().enumerate() {
+                if !id.rule().holds(v) {
+                    return Err(SimError::Inconsistent(format!(
+                        "{}[{}] = {}: {}",
+                        id.name(),
+                        i + 1,
+                        number(v),
+                        id.rule().text(v, id.unit())
+                    )));
+                }
+            }
+        }
+        let l = &self.links;
+        let ends = [
+            ("k_top", l.k_top),
+            ("c_top", l.c_top),
+            ("k_bottom", l.k_bottom),
+            ("c_bottom", l.c_bottom),
+        ];
+        let named = |name: &str, i: usize| format!("{name}[{}]", i + 1);
+        let links = (l.k_s.iter().enumerate().map(|(i, &v)| (named("k_s", i), v)))
+            .chain(l.c_s.iter().enumerate().map(|(i, &v)| (named("c_s", i), v)));
+        for (name, v) in ends
+            .map(|(n, v)| (n.to_string(), v))
+            .into_iter()
+            .chain(links)
+        {
+            if !(v.is_finite() && (0.0..=1e13).contains(&v)) {
+                return Err(SimError::Inconsistent(format!(
+                    "{name} = {}: must be finite, >= 0 and <= 1e13",
+                    number(v)
+                )));
+            }
+        }
+        if law.has_static_force() {
+            for i in 0..n {
+                let p = self.section(i);
+                if p.static_force() < p.f_c() {
+                    return Err(SimError::Inconsistent(format!(
+                        "F_S[{}] = {} N is below the Coulomb force F_C = mu[{0}]·F_N[{0}] = {} N of its section: LuGre's static force must be at least F_C",
+                        i + 1,
+                        number(p.f_s),
+                        number(p.f_c())
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An input of a string: per section (0-based index) or at an end.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StringInput {
+    /// `F_d[i]`: the external axial force on section `i`.
+    Fd(usize),
+    /// `v_sx[i]`: the support (wall) velocity under section `i`.
+    Vsx(usize),
+    /// `F_N[i]`: the normal force of section `i` (where it is an input).
+    Fn(usize),
+    /// The velocity of the point the top element holds.
+    VTop,
+    /// The velocity of the point the bottom element holds.
+    VBottom,
+}
+
+impl StringInput {
+    fn name(self) -> String {
+        match self {
+            StringInput::Fd(i) => format!("F_d[{}]", i + 1),
+            StringInput::Vsx(i) => format!("v_sx[{}]", i + 1),
+            StringInput::Fn(i) => format!("F_N[{}]", i + 1),
+            StringInput::VTop => "v_top".into(),
+            StringInput::VBottom => "v_bottom".into(),
+        }
+    }
+
+    /// The single contact's input whose rule it follows.
+    fn like(self) -> InputId {
+        match self {
+            StringInput::Fd(_) => InputId::FD,
+            StringInput::Fn(_) => InputId::FN,
+            _ => InputId::VSx,
+        }
+    }
+}
+
+/// The outputs of a string at the current time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StringOutputs {
+    pub x: Vec<f64>,
+    pub v_x: Vec<f64>,
+    pub s_x: Vec<f64>,
+    pub f_fx: Vec<f64>,
+    /// Mean of `F_Fx[i]` over the last communication step (exact integral over the step).
+    pub f_fx_step: Vec<f64>,
+    /// `N − 1` link forces, tension positive.
+    pub f_link: Vec<f64>,
+    pub f_top: f64,
+    pub f_bottom: f64,
+    pub f_top_step: f64,
+    pub f_bottom_step: f64,
+}
+
+/// A string of contacts that can be stepped in time; a method that returns an error leaves it
+/// as it was.
+pub trait StringSimulator: Send {
+    fn sections(&self) -> usize;
+    fn time(&self) -> f64;
+    fn tolerance(&self) -> f64;
+    /// Sets an input from the current time on (its derivative back to 0).
+    fn set_input(&mut self, input: StringInput, value: f64) -> Result<(), SimError>;
+    /// The input's time derivative, for linear extrapolation over the next step only.
+    fn set_input_derivative(&mut self, input: StringInput, value: f64) -> Result<(), SimError>;
+    /// Integrates exactly to `t_end`.
+    fn step_to(&mut self, t_end: f64) -> Result<(), SimError>;
+    fn outputs(&self) -> StringOutputs;
+    fn stats(&self) -> StepStats;
+    fn clone_box(&self) -> Box<dyn StringSimulator>;
+}
+
+/// Builds a string at rest at the origin (zero deformation, zero inputs, the load inputs at the
+/// parameters' `F_N`) at `t_start` with relative tolerance `tolerance`.
+pub fn build_string(
+    config: StringConfig,
+    params: StringParams,
+    t_start: f64,
+    tolerance: f64,
+) -> Result<Box<dyn StringSimulator>, SimError> {
+    params.validate(config.law)?;
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(SimError::Tolerance(tolerance));
+    }
+    if !t_start.is_finite() {
+        return Err(SimError::Time {
+            now: t_start,
+            target: t_start,
+        });
+    }
+    let tol = tolerance.clamp(TOLERANCE_RANGE.0, TOLERANCE_RANGE.1);
+    Ok(match config.law {
+        Law::Dahl => Box::new(StringSim::<Dahl>::new(config, params, t_start, tol)),
+        Law::Dupont => Box::new(StringSim::<Dupont>::new(config, params, t_start, tol)),
+        Law::LuGre => Box::new(StringSim::<LuGre>::new(config, params, t_start, tol)),
+    })
+}
+
+/// The string simulator of one law.
+#[derive(Clone, Debug)]
+struct StringSim<L> {
+    model: StringModel<L>,
+    radau: BandRadau,
+    work: BandWork,
+    /// The integrals over the communication step in progress of `F_Fx[i]` (N of them), `F_top`
+    /// and `F_bottom`.
+    integrals: Vec<f64>,
+    /// The means over the last completed communication step, laid out as `integrals`.
+    means: Vec<f64>,
+}
+
+impl<L: FrictionLaw> StringSim<L> {
+    fn new(config: StringConfig, params: StringParams, t: f64, tol: f64) -> Self {
+        let n = params.sections();
+        let sections = (0..n)
+            .map(|i| {
+                let p = params.section(i);
+                Section {
+                    law: L::new(&p),
+                    params: p,
+                    inv_m: 1.0 / p.m,
+                }
+            })
+            .collect();
+        let sh = &params.shared;
+        let harmonic = config
+            .harmonic
+            .then(|| Harmonic::new(sh.u0, sh.f, 0.0, sh.phase, t));
+        let model = StringModel {
+            sections,
+            links: params.links.clone(),
+            harmonic,
+            inputs: StringInputs::zero(n, config.normal_input, &params.f_n, t),
+        };
+        let mut radau = BandRadau::new(t, vec![0.0; PER_SECTION * n], tol);
+        radau.step_limit = sh.max_steps as u64;
+        let mut sim = StringSim {
+            model,
+            radau,
+            work: BandWork::new(PER_SECTION * n, 4, 3),
+            integrals: vec![0.0; n + 2],
+            means: vec![0.0; n + 2],
+        };
+        // Before the first step the step means are the instantaneous forces.
+        sim.means = sim.instantaneous();
+        sim
+    }
+
+    /// `F_Fx[i]`, `F_top`, `F_bottom` now.
+    fn instantaneous(&self) -> Vec<f64> {
+        let (t, y) = (self.radau.t, &self.radau.y);
+        let n = self.model.n();
+        let mut out: Vec<f64> = (0..n)
+            .map(|i| {
+                self.model
+                    .contact(i, t, y[PER_SECTION * i + 1], y[PER_SECTION * i + 2])
+                    .1
+            })
+            .collect();
+        let ends = self.model.ends(t, y);
+        out.push(ends.top);
+        out.push(ends.bottom);
+        out
+    }
+
+    fn track(&mut self, input: StringInput) -> Result<&mut InputTrack, SimError> {
+        let n = self.model.n();
+        let missing =
+            || SimError::Inconsistent(format!("{}: this string has no such input", input.name()));
+        let inputs = &mut self.model.inputs;
+        match input {
+            StringInput::Fd(i) if i < n => Ok(&mut inputs.f_d[i]),
+            StringInput::Vsx(i) if i < n => Ok(&mut inputs.v_sx[i]),
+            StringInput::Fn(i) => inputs.f_n.get_mut(i).ok_or_else(missing),
+            StringInput::VTop => Ok(&mut inputs.v_top),
+            StringInput::VBottom => Ok(&mut inputs.v_bottom),
+            _ => Err(missing()),
+        }
+    }
+
+    /// Re-anchors every track at the current time, keeping the ends' positions exact.
+    fn anchor_tracks(&mut self) {
+        let t = self.radau.t;
+        let inp = &mut self.model.inputs;
+        inp.x_top_ref = inp.x_top(t);
+        inp.x_bottom_ref = inp.x_bottom(t);
+        for tr in inp
+            .f_d
+            .iter_mut()
+            .chain(inp.v_sx.iter_mut())
+            .chain(inp.f_n.iter_mut())
+            .chain([&mut inp.v_top, &mut inp.v_bottom])
+        {
+            tr.hold_from(t);
+        }
+    }
+}
+
+impl<L: FrictionLaw> StringSimulator for StringSim<L> {
+    fn sections(&self) -> usize {
+        self.model.n()
+    }
+
+    fn time(&self) -> f64 {
+        self.radau.t
+    }
+
+    fn tolerance(&self) -> f64 {
+        self.radau.tolerance()
+    }
+
+    fn set_input(&mut self, input: StringInput, value: f64) -> Result<(), SimError> {
+        let like = input.like();
+        if !like.rule().holds(value) {
+            return Err(SimError::Inconsistent(format!(
+                "{} = {}: {}",
+                input.name(),
+                number(value),
+                like.rule().text(value, like.unit())
+            )));
+        }
+        let t = self.radau.t;
+        self.track(input)?;
+        self.anchor_tracks();
+        let tr = self.track(input)?;
+        tr.t_ref = t;
+        tr.value = value;
+        tr.slope = 0.0;
+        self.radau.restart();
+        Ok(())
+    }
+
+    fn set_input_derivative(&mut self, input: StringInput, value: f64) -> Result<(), SimError> {
+        if !(value.is_finite() && value.abs() <= MAX_INPUT_RATE) {
+            return Err(SimError::Inconsistent(format!(
+                "derivative of {} = {}: must be finite and at most {} in magnitude",
+                input.name(),
+                number(value),
+                number(MAX_INPUT_RATE)
+            )));
+        }
+        let t = self.radau.t;
+        self.track(input)?;
+        self.anchor_tracks();
+        let tr = self.track(input)?;
+        tr.t_ref = t;
+        tr.slope = value;
+        self.radau.restart();
+        Ok(())
+    }
+
+    fn step_to(&mut self, t_end: f64) -> Result<(), SimError> {
+        let t0 = self.radau.t;
+        if !(t_end.is_finite() && t_end > t0) {
+            return Err(SimError::Time {
+                now: t0,
+                target: t_end,
+            });
+        }
+        let saved = self.radau.clone();
+        let n = self.model.n();
+        let model = &self.model;
+        let integrals = &mut self.integrals;
+        integrals.fill(0.0);
+        let result = self
+            .radau
+            .integrate(model, &mut self.work, t_end, |t, h, stages| {
+                for (k, y) in stages.iter().enumerate() {
+                    let (tk, w) = (t + C[k] * h, B[k] * h);
+                    for i in 0..n {
+                        let (v, s) = (y[PER_SECTION * i + 1], y[PER_SECTION * i + 2]);
+                        integrals[i] += w * model.contact(i, tk, v, s).1;
+                    }
+                    let ends = model.ends(tk, y);
+                    integrals[n] += w * ends.top;
+                    integrals[n + 1] += w * ends.bottom;
+                }
+            });
+        if let Err(e) = result {
+            self.radau = saved;
+            return Err(SimError::Solver(e));
+        }
+        let span = t_end - t0;
+        for (m, i) in self.means.iter_mut().zip(&self.integrals) {
+            *m = i / span;
+        }
+        // Input derivatives hold for one step: the inputs are held from here on.
+        let sloped = {
+            let inp = &self.model.inputs;
+            inp.f_d
+                .iter()
+                .chain(&inp.v_sx)
+                .chain(&inp.f_n)
+                .chain([&inp.v_top, &inp.v_bottom])
+                .any(|tr| tr.slope != 0.0)
+        };
+        self.anchor_tracks();
+        if sloped {
+            self.radau.restart();
+        }
+        Ok(())
+    }
+
+    fn outputs(&self) -> StringOutputs {
+        let n = self.model.n();
+        let y = &self.radau.y;
+        let now = self.instantaneous();
+        StringOutputs {
+            x: (0..n).map(|i| y[PER_SECTION * i]).collect(),
+            v_x: (0..n).map(|i| y[PER_SECTION * i + 1]).collect(),
+            s_x: (0..n).map(|i| y[PER_SECTION * i + 2]).collect(),
+            f_fx: now[..n].to_vec(),
+            f_fx_step: self.means[..n].to_vec(),
+            f_link: (0..n.saturating_sub(1))
+                .map(|i| self.model.link(i, y))
+                .collect(),
+            f_top: now[n],
+            f_bottom: now[n + 1],
+            f_top_step: self.means[n],
+            f_bottom_step: self.means[n + 1],
+        }
+    }
+
+    fn stats(&self) -> StepStats {
+        let s = self.radau.stats;
+        StepStats {
+            steps: s.steps,
+            rejected: s.rejected,
+            rhs_evals: s.rhs_evals,
+            jacobians: s.jacobians,
+            events: s.events,
+            limit_steps: 0,
+        }
+    }
+
+    fn clone_box(&self) -> Box<dyn StringSimulator> {
+        Box::new(self.clone())
+    }
+}

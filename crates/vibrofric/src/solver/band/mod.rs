@@ -1,0 +1,9 @@
+//! Integration of large systems with banded Jacobians (a chain of bodies, each coupled to its
+//! neighbours only): band matrices and their LU factorisation (`lu.rs`), and Radau IIA of order 5
+//! on them (`radau.rs`).
+
+mod lu;
+mod radau;
+
+pub use lu::{Band, BandLu};
+pub use radau::{BandRadau, BandSystem, BandWork};
