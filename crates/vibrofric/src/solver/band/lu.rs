@@ -81,7 +81,7 @@ pub struct BandLu<T> {
     singular: bool,
 }
 
-impl<T: LuScalar + Default + std::ops::Neg<Output = T>> BandLu<T> {
+impl<T: LuScalar + Default> BandLu<T> {
     pub fn zeros(n: usize, kl: usize, ku: usize) -> Self {
         BandLu {
             m: Band::zeros(n, kl, ku),
@@ -100,56 +100,56 @@ impl<T: LuScalar + Default + std::ops::Neg<Output = T>> BandLu<T> {
         self.singular
     }
 
-    /// Factors the matrix in place (Gaussian elimination with partial pivoting by columns).
+    /// Factors the matrix in place (Gaussian elimination with partial pivoting by columns, on
+    /// contiguous slices of the column storage).
     pub fn factor(&mut self) {
-        let (n, kl, ku) = (self.m.n, self.m.kl, self.m.ku);
-        let ld = self.m.ld;
+        let (n, kl, ku, ld) = (self.m.n, self.m.kl, self.m.ku, self.m.ld);
+        // Row of the diagonal in each column's storage.
+        let d = kl + ku;
+        let a = &mut self.m.a;
         // The fill-in rows (the kl topmost of each column) start at zero.
-        for j in 0..n {
-            for r in 0..kl {
-                self.m.a[j * ld + r] = T::default();
-            }
+        for col in a.chunks_exact_mut(ld) {
+            col[..kl].fill(T::default());
         }
         self.singular = false;
         // Last column touched by the row interchanges so far.
         let mut ju = 0usize;
         for k in 0..n {
             let lm = kl.min(n - 1 - k);
-            let mut p = k;
-            let mut best = self.m.get(k, k).mag();
-            for i in k + 1..=k + lm {
-                let v = self.m.get(i, k).mag();
+            let ck = k * ld + d;
+            let (mut l, mut best) = (0, a[ck].mag());
+            for q in 1..=lm {
+                let v = a[ck + q].mag();
                 if v > best {
                     best = v;
-                    p = i;
+                    l = q;
                 }
             }
+            let p = k + l;
             self.pivot[k] = p;
             if best == 0.0 || !best.is_finite() {
                 self.singular = true;
                 return;
             }
-            if p != k {
-                let (ip, ik) = (self.m.idx(p, k), self.m.idx(k, k));
-                self.m.a.swap(ip, ik);
-            }
+            a.swap(ck + l, ck);
             // Multipliers, negated: L's column k.
-            let inv = T::default() - self.m.get(k, k);
-            for i in k + 1..=k + lm {
-                let ix = self.m.idx(i, k);
-                self.m.a[ix] = self.m.a[ix] / inv;
+            let inv = T::default() - a[ck];
+            for v in &mut a[ck + 1..=ck + lm] {
+                *v = *v / inv;
             }
             ju = ju.max((p + ku).min(n - 1));
-            for j in k + 1..=ju {
-                let (ip, ik) = (self.m.idx(p, j), self.m.idx(k, j));
-                let t = self.m.a[ip];
-                if p != k {
-                    self.m.a[ip] = self.m.a[ik];
-                    self.m.a[ik] = t;
+            let (left, right) = a.split_at_mut((k + 1) * ld);
+            let mult = &left[ck + 1..=ck + lm];
+            for (jj, col) in right.chunks_exact_mut(ld).take(ju - k).enumerate() {
+                // Column j = k + 1 + jj: entry (i, j) at row d + i − j of its storage.
+                let top = d - 1 - jj; // row of (k, j)
+                let t = col[top + l];
+                if l != 0 {
+                    col[top + l] = col[top];
+                    col[top] = t;
                 }
-                for i in k + 1..=k + lm {
-                    let (ij, ikk) = (self.m.idx(i, j), self.m.idx(i, k));
-                    self.m.a[ij] = self.m.a[ij] + t * self.m.a[ikk];
+                for (x, &m) in col[top + 1..=top + lm].iter_mut().zip(mult) {
+                    *x = *x + t * m;
                 }
             }
         }
@@ -157,7 +157,9 @@ impl<T: LuScalar + Default + std::ops::Neg<Output = T>> BandLu<T> {
 
     /// Solves `A·x = b` in place with the factors.
     pub fn solve(&self, b: &mut [T]) {
-        let (n, kl, ku) = (self.m.n, self.m.kl, self.m.ku);
+        let (n, kl, ku, ld) = (self.m.n, self.m.kl, self.m.ku, self.m.ld);
+        let d = kl + ku;
+        let a = &self.m.a;
         debug_assert_eq!(b.len(), n);
         for k in 0..n {
             let lm = kl.min(n - 1 - k);
@@ -167,15 +169,20 @@ impl<T: LuScalar + Default + std::ops::Neg<Output = T>> BandLu<T> {
                 b[p] = b[k];
                 b[k] = t;
             }
-            for i in k + 1..=k + lm {
-                b[i] = b[i] + t * self.m.a[self.m.idx(i, k)];
+            let ck = k * ld + d;
+            for (x, &m) in b[k + 1..=k + lm].iter_mut().zip(&a[ck + 1..=ck + lm]) {
+                *x = *x + t * m;
             }
         }
         for k in (0..n).rev() {
-            b[k] = b[k] / self.m.a[self.m.idx(k, k)];
-            let t = -b[k];
-            for i in k.saturating_sub(kl + ku)..k {
-                b[i] = b[i] + t * self.m.a[self.m.idx(i, k)];
+            let ck = k * ld + d;
+            b[k] = b[k] / a[ck];
+            let t = T::default() - b[k];
+            let lo = k.saturating_sub(d);
+            // Rows lo..k of column k, at storage rows d − (k − i).
+            let col = &a[ck - (k - lo)..ck];
+            for (x, &u) in b[lo..k].iter_mut().zip(col) {
+                *x = *x + t * u;
             }
         }
     }
