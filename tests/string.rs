@@ -8,7 +8,9 @@
 //! - a frictionless string, whose centre of mass moves in closed form under a constant force;
 //! - the rules: bad parameters and inputs refused, naming the variable, its index and the rule.
 
-use vibrofric::model::string::{build_string, StringConfig, StringInput, StringParams};
+use vibrofric::model::string::{
+    build_string, StringConfig, StringInput, StringParams, StringSimulator,
+};
 use vibrofric::table::{Law, Params};
 
 /// A drill string's sections: 10 m of 5-inch pipe (267 kg), axial stiffness EA/L = 7.1e7 N/m,
@@ -179,8 +181,8 @@ impl Reference<'_> {
     }
 }
 
-/// The string through the library, inputs as the reference has them; the same observations.
-fn run_string(pipe: &Pipe, tol: f64, h: f64, t_end: f64) -> Vec<(Vec<f64>, Vec<f64>)> {
+/// The pipe as a LuGre string at tolerance `tol`, its top fed at `V_TOP`.
+fn fed_string(pipe: &Pipe, tol: f64) -> Box<dyn StringSimulator> {
     let config = StringConfig {
         law: Law::LuGre,
         harmonic: false,
@@ -188,6 +190,12 @@ fn run_string(pipe: &Pipe, tol: f64, h: f64, t_end: f64) -> Vec<(Vec<f64>, Vec<f
     };
     let mut sim = build_string(config, pipe.params(), 0.0, tol).unwrap();
     sim.set_input(StringInput::VTop, V_TOP).unwrap();
+    sim
+}
+
+/// The string through the library, inputs as the reference has them; the same observations.
+fn run_string(pipe: &Pipe, tol: f64, h: f64, t_end: f64) -> Vec<(Vec<f64>, Vec<f64>)> {
+    let mut sim = fed_string(pipe, tol);
     let steps = (t_end / h).round() as usize;
     let mut out = Vec::new();
     let mut last_tool = None;
@@ -296,13 +304,7 @@ fn momentum_follows_the_step_means_of_the_external_forces() {
     let pipe = pipe(40);
     let h = 1e-3;
     for &tol in &[1e-6, 1e-9] {
-        let config = StringConfig {
-            law: Law::LuGre,
-            harmonic: false,
-            normal_input: false,
-        };
-        let mut sim = build_string(config, pipe.params(), 0.0, tol).unwrap();
-        sim.set_input(StringInput::VTop, V_TOP).unwrap();
+        let mut sim = fed_string(&pipe, tol);
         let mut p0: f64 = 0.0;
         let mut worst: f64 = 0.0;
         for c in 0..100 {

@@ -115,6 +115,19 @@ pub struct StepStats {
     pub limit_steps: u64,
 }
 
+impl From<crate::solver::SolverStats> for StepStats {
+    fn from(s: crate::solver::SolverStats) -> Self {
+        StepStats {
+            steps: s.steps,
+            rejected: s.rejected,
+            rhs_evals: s.rhs_evals,
+            jacobians: s.jacobians,
+            events: s.events,
+            limit_steps: s.limit_steps,
+        }
+    }
+}
+
 /// A contact that can be stepped in time. Every method that returns an error leaves the
 /// simulator exactly as it was.
 pub trait Simulator: Send + Exchange {

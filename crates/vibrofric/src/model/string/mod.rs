@@ -488,15 +488,7 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
     }
 
     fn stats(&self) -> StepStats {
-        let s = self.radau.stats;
-        StepStats {
-            steps: s.steps,
-            rejected: s.rejected,
-            rhs_evals: s.rhs_evals,
-            jacobians: s.jacobians,
-            events: s.events,
-            limit_steps: 0,
-        }
+        self.radau.stats.into()
     }
 
     fn clone_box(&self) -> Box<dyn StringSimulator> {
