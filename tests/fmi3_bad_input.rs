@@ -426,3 +426,57 @@ fn instantiation_refuses_a_wrong_token_event_mode_and_no_resources() {
         free(inst);
     }
 }
+
+/// FMI 3.0's reads never apply a rule of leaving initialization either: on every LuGre scene,
+/// at start times 0 and 1e7 s, `F_S` below the Coulomb force at the scene's load is accepted,
+/// fmi3GetFloat64 reads every value in Initialization Mode with fmi3OK, bit for bit the values
+/// at `F_S = F_C` (the deformation is 0 at the start: no static force enters), and reads them
+/// again in Error after fmi3ExitInitializationMode refused the rule naming both forces.
+#[test]
+fn fmi3_reads_in_initialization_do_not_apply_the_static_force_rule() {
+    use vibrofric::table::ParamId;
+    use vibrofric_import::{CoSimulation, Status};
+    let fs = ParamId::FS.vr();
+    let mut cases = 0;
+    for (file, sc) in standard_scenes() {
+        let vrs = all_vrs(&sc);
+        let Some(k) = vrs.iter().position(|&v| v == fs) else {
+            continue;
+        };
+        let fmu = load3(file, &format!("fmi3-inconsistent-{file}"));
+        let f_c = sc.start.reference_f_c();
+        for t0 in [0.0, 1e7] {
+            let init = |f_s: f64| {
+                let mut i = fmu.instantiate("reads").unwrap();
+                assert_eq!(i.enter_initialization(None, t0, None), Status::Ok);
+                assert_eq!(i.set_f64(&[fs], &[f_s]), Status::Ok);
+                i
+            };
+            let mut want = bits(&init(f_c).get_f64(&vrs).unwrap());
+            for f_s in [0.0, 5e-324, f_c * 0.5, f_c * (1.0 - f64::EPSILON)] {
+                let case = format!("{file} at {t0} s, F_S = {f_s:e}");
+                let mut i = init(f_s);
+                want[k] = f_s.to_bits();
+                let read = i.get_f64(&vrs);
+                let msg = i.last_message();
+                assert_eq!(read.map(|v| bits(&v)), Ok(want.clone()), "{case}: {msg}");
+                assert_eq!(i.exit_initialization_mode(), Status::Error, "{case}");
+                let msg = i.last_message();
+                assert!(
+                    msg.contains("fmi3ExitInitializationMode: F_S = ")
+                        && msg.contains("N is below the Coulomb force F_C = mu·F_N = "),
+                    "{case}: {msg}"
+                );
+                let read = i.get_f64(&vrs);
+                let msg = i.last_message();
+                assert_eq!(
+                    read.map(|v| bits(&v)),
+                    Ok(want.clone()),
+                    "{case}: in Error: {msg}"
+                );
+                cases += 1;
+            }
+        }
+    }
+    assert_eq!(cases, 3 * 2 * 4, "three LuGre scenes");
+}

@@ -894,3 +894,145 @@ fn corrupted_serialized_state() {
         check(&fmu, &vrs, c);
     }
 }
+
+/// Every read of a Model Exchange instance (`fmi2GetReal` of every variable, the continuous
+/// states, their nominals, the event indicators and the derivatives), as bits, or the first
+/// read that did not answer fmi2OK with its message.
+fn every_read(fmu: &Fmu, i: &mut Instance, vrs: &[u32], nx: usize, ni: usize) -> Vec<u64> {
+    let mut out = bits(
+        &i.get_real(vrs)
+            .unwrap_or_else(|s| panic!("{s:?}: {}", i.last_message())),
+    );
+    let f = fmu.model_exchange.unwrap();
+    for get in [
+        f.fmi2GetContinuousStates,
+        f.fmi2GetNominalsOfContinuousStates,
+    ] {
+        let mut x = vec![0.0; nx];
+        let code = unsafe { get(i.raw(), x.as_mut_ptr(), nx) };
+        let s = vibrofric_import::status(code);
+        assert_eq!(s, Status::Ok, "{}", i.last_message());
+        out.extend(bits(&x));
+    }
+    let z = i.get_event_indicators(ni);
+    out.extend(bits(
+        &z.unwrap_or_else(|s| panic!("{s:?}: {}", i.last_message())),
+    ));
+    let dx = i.get_derivatives(nx);
+    out.extend(bits(
+        &dx.unwrap_or_else(|s| panic!("{s:?}: {}", i.last_message())),
+    ));
+    out
+}
+
+/// Reads never apply a rule of leaving initialization (they used to refuse every read while
+/// `F_S < F_C`, and in Initialization Mode that put the instance in Error). On every LuGre
+/// scene, Co-Simulation and Model Exchange, at start times 0 and 1e7 s: `F_S` below the
+/// Coulomb force at the scene's load (0, subnormal, just below) is accepted; in Initialization
+/// Mode every value reads with fmi2OK and is bit for bit the one at `F_S = F_C`, the lowest
+/// static force accepted (at the start the deformation is 0: `F_F = (h_t + h_v)·v_r` and
+/// `ds/dt = v_r` need no static force, and the deformation's nominal is `max(F_C, F_S)/k_t`
+/// either way); fmi2ExitInitializationMode refuses with the rule, naming both forces; in Error
+/// the values read as they stood, with fmi2OK.
+#[test]
+fn reads_in_initialization_do_not_apply_the_static_force_rule() {
+    use vibrofric::table::ParamId;
+    let fs = ParamId::FS.vr();
+    let mut cases = 0;
+    for (file, sc) in standard_scenes() {
+        if !all_vrs(&sc).contains(&fs) {
+            continue;
+        }
+        let fmu = load(file, &format!("inconsistent-reads-{file}"));
+        let vrs = all_vrs(&sc);
+        let (nx, ni) = (state_count(&sc), sc.config.event_indicators());
+        let f_c = sc.start.reference_f_c();
+        let k = vrs.iter().position(|&v| v == fs).unwrap();
+        for me in [false, true] {
+            for t0 in [0.0, 1e7] {
+                let init = |name: &str, f_s: f64| {
+                    let mut i = if me {
+                        fmu.instantiate_model_exchange(name).unwrap()
+                    } else {
+                        fmu.instantiate(name).unwrap()
+                    };
+                    ok!(i, i.setup_experiment(None, t0, None));
+                    ok!(i, i.enter_initialization_mode());
+                    ok!(i, i.set_real(&[fs], &[f_s]));
+                    i
+                };
+                let read = |i: &mut Instance| {
+                    if me {
+                        every_read(&fmu, i, &vrs, nx, ni)
+                    } else {
+                        let v = i.get_real(&vrs);
+                        bits(&v.unwrap_or_else(|s| panic!("{s:?}: {}", i.last_message())))
+                    }
+                };
+                let mut at_f_c = init("consistent", f_c);
+                let mut want = read(&mut at_f_c);
+                ok!(at_f_c, at_f_c.exit_initialization_mode());
+                for f_s in [0.0, 5e-324, f_c * 0.5, f_c * (1.0 - f64::EPSILON)] {
+                    let case = format!("{file} (Model Exchange {me}) at {t0} s, F_S = {f_s:e}");
+                    let mut i = init("inconsistent", f_s);
+                    want[k] = f_s.to_bits();
+                    assert_eq!(read(&mut i), want, "{case}: in Initialization Mode");
+                    assert_eq!(i.exit_initialization_mode(), Status::Error, "{case}");
+                    let msg = i.last_message();
+                    assert!(
+                        msg.contains("fmi2ExitInitializationMode: F_S = ")
+                            && msg.contains("N is below the Coulomb force F_C = mu·F_N = "),
+                        "{case}: {msg}"
+                    );
+                    assert_eq!(read(&mut i), want, "{case}: in Error");
+                    cases += 1;
+                }
+            }
+        }
+    }
+    assert_eq!(cases, 3 * 2 * 2 * 4, "three LuGre scenes");
+}
+
+/// In Error, fmi2GetReal answers for debugging: Model Exchange states set far from any
+/// trajectory (a deformation of 1e307 m, refused for evaluation with fmi2Discard), then an
+/// error (a NaN parameter): the values read as they stand (the deformation output is the
+/// state set), and those that are not finite there (the friction force `k_t·s`) are the values
+/// at the scene's start values, with fmi2Warning naming them (in the log category
+/// logStatusWarning).
+#[test]
+fn reads_in_error_answer_as_the_values_stand_or_at_the_start_values() {
+    let file = "contact.toml";
+    let sc = scene(file);
+    let fmu = load(file, "reads-in-error");
+    let vrs = all_vrs(&sc);
+    let at_start = {
+        let mut i = fmu.instantiate_model_exchange("start").unwrap();
+        ok!(i, i.enter_initialization_mode());
+        i.get_real(&vrs).unwrap()
+    };
+    let mut i = fmu.instantiate_model_exchange("far").unwrap();
+    ok!(i, i.set_debug_logging(true, &["logStatusWarning"]));
+    ok!(i, i.enter_initialization_mode());
+    ok!(i, i.exit_initialization_mode());
+    ok!(i, i.new_discrete_states().0);
+    ok!(i, i.enter_continuous_time_mode());
+    let mut x = vec![0.0; state_count(&sc)];
+    x[0] = 1e307;
+    ok!(i, i.set_continuous_states(&x));
+    assert_eq!(i.get_real(&vrs).err(), Some(Status::Discard));
+    assert_eq!(i.set_real(&[vr::M], &[f64::NAN]), Status::Error);
+    let f = *i.functions();
+    let mut values = vec![0.0; vrs.len()];
+    let status = vibrofric_import::status(unsafe {
+        (f.fmi2GetReal)(i.raw(), vrs.as_ptr(), vrs.len(), values.as_mut_ptr())
+    });
+    assert_eq!(status, Status::Warning, "{}", i.last_message());
+    let msg = i.last_message();
+    assert!(msg.contains("the instance is in Error"), "{msg}");
+    let s_x = vrs.iter().position(|&v| v == vr::S_X).unwrap();
+    let f_fx = vrs.iter().position(|&v| v == vr::F_FX).unwrap();
+    assert_eq!(values[s_x], 1e307, "as it stands");
+    assert_eq!(values[f_fx].to_bits(), at_start[f_fx].to_bits(), "{msg}");
+    assert!(msg.contains("F_Fx = "), "{msg}");
+    assert!(values.iter().all(|x| x.is_finite()), "{values:?}");
+}

@@ -6,6 +6,8 @@ mod support;
 
 use support::fmu::*;
 use support::scenes::*;
+use vibrofric::description::variables::{Causality, VarKind, Variability};
+use vibrofric::description::Scene;
 use vibrofric::fmi::saved;
 use vibrofric::model::{ContactState, Law};
 use vibrofric_import::Status;
@@ -205,7 +207,7 @@ fn crafted_states_are_refused_field_by_field() {
     let s = a.get_state().unwrap();
     let bytes = a.serialize_state(&s).unwrap();
     type Edit = fn(&mut ContactState);
-    let cases: [(Edit, &str); 8] = [
+    let cases: [(Edit, &str); 10] = [
         (|s| s.params.f = 1e12, "parameter f = 1e12"),
         (
             |s| s.window.acc = f64::NEG_INFINITY,
@@ -226,6 +228,14 @@ fn crafted_states_are_refused_field_by_field() {
             |s| s.direction = 0.5,
             "branch of the explicit path 0.5: must be -1, 0 or 1",
         ),
+        (
+            |s| s.exp_h = f64::NAN,
+            "step proposal of the explicit paths = NaN: must be a length >= 0",
+        ),
+        (
+            |s| s.exp_h = -1e-3,
+            "step proposal of the explicit paths = -0.001: must be a length >= 0",
+        ),
     ];
     let mut b = started(&fmu, "b", &[]);
     ok!(b, b.do_step(0.0, H));
@@ -244,6 +254,214 @@ fn crafted_states_are_refused_field_by_field() {
     let sb = b.deserialize_state(&bytes).unwrap();
     ok!(b, b.set_state(&sb));
     ok!(b, b.do_step(H, H));
+    // A step proposal of +inf (nothing bounds the step) is one a path stores: it restores and
+    // continues as the proposal of the step's own length (a step to the target either way).
+    let ones = |s: &mut ContactState| s.exp_h = f64::INFINITY;
+    let sb = b.deserialize_state(&crafted(&bytes, ones)).unwrap();
+    ok!(b, b.set_state(&sb));
+    ok!(b, b.do_step(H, H));
+}
+
+/// The issue's case: PaperTransverse, no experiment set up, `u0` = 6.25e-7, `v_d` = 1e-308
+/// (a subnormal sliding velocity), then `f` = -0 (no vibration): nothing bounds the planar
+/// explicit path's step, whose proposal is +inf. The state saved after the first step restores
+/// after a refused step (a target time not later than the current one), in the same instance
+/// and serialized into a fresh one, and continues bit for bit; it used to be refused ("exponential
+/// step is inf: every number must be finite").
+#[test]
+fn a_state_saved_with_an_unbounded_step_proposal_restores() {
+    let file = "paper-transverse.toml";
+    let fmu = load(file, "state-unbounded");
+    let vrs = all_vrs(&scene(file));
+    let mut a = fmu.instantiate("a").unwrap();
+    ok!(a, a.enter_initialization_mode());
+    ok!(a, a.set_real(&[vr::U0], &[6.25e-7]));
+    ok!(a, a.set_real(&[vr::V_D], &[1e-308]));
+    ok!(a, a.exit_initialization_mode());
+    ok!(a, a.set_real(&[vr::F], &[-0.0]));
+    ok!(a, a.do_step(0.0, 1e-3));
+    let s = a.get_state().unwrap();
+    let bytes = a.serialize_state(&s).unwrap();
+    let proposal = saved::decode(&bytes).unwrap().sim.unwrap().exp_h;
+    assert_eq!(proposal, f64::INFINITY, "the case this test is about");
+    let continuation = |i: &mut vibrofric_import::Instance| {
+        ok!(i, i.do_step(1e-3, 1e-3));
+        bits(&i.get_real(&vrs).unwrap())
+    };
+    let straight = continuation(&mut a);
+    assert_eq!(a.do_step(2e-3, 1e-300), Status::Error);
+    ok!(a, a.set_state(&s));
+    assert_eq!(continuation(&mut a), straight);
+    let mut b = fmu.instantiate("b").unwrap();
+    let sb = b.deserialize_state(&bytes).unwrap();
+    ok!(b, b.set_state(&sb));
+    assert_eq!(continuation(&mut b), straight);
+}
+
+/// Whether `x` is a value `vr` accepts in scene `sc`: a parameter in its range (and, `tuned`,
+/// one that may change after initialization), or an input by its rule.
+fn accepts(sc: &Scene, vr: u32, x: f64, tuned: bool) -> bool {
+    let c = &sc.config;
+    sc.variables().any(|v| {
+        v.vr == vr
+            && match v.kind {
+                VarKind::Param(p) => {
+                    p.check_in(x, c).is_ok() && (!tuned || v.variability(c) == Variability::Tunable)
+                }
+                VarKind::Input(i) => v.causality(c) == Causality::Input && i.rule().holds(x),
+                _ => false,
+            }
+    })
+}
+
+/// Every saved state restores, bit for bit, at the edges of the accepted values: on every
+/// standard scene, at start times from 0 to 1e7 s, with subnormal, zero and extreme in-range
+/// inputs and parameters set in initialization and after it (`f` = 0 and -0, `u0` = 0 and
+/// subnormal, `v_d` = 1e-308, subnormal forces and coefficients, the stiffest contact), a state
+/// saved after each of two steps continues as the instance it was taken from over three more
+/// steps (statuses and every value), restored into the same instance after a refused step and
+/// serialized into a fresh one. The paths the steps take (from the model built with the same
+/// values) are all five integrators.
+#[test]
+fn states_saved_at_the_edges_of_the_values_restore_bit_for_bit() {
+    use vibrofric::model::{Integrator, Setup};
+    type Sets = &'static [(u32, f64)];
+    // (set in initialization, set after it)
+    let variants: [(Sets, Sets); 11] = [
+        (&[(vr::U0, 6.25e-7), (vr::V_D, 1e-308)], &[(vr::F, -0.0)]),
+        (&[(vr::F, 0.0), (vr::U0, 0.0)], &[]),
+        (
+            &[(vr::U0, 5e-324), (vr::F_D, 5e-324), (vr::V_D, 5e-324)],
+            &[],
+        ),
+        (&[(vr::V_SX, -1e-308), (vr::V_SY, 1e-308)], &[(vr::U0, 0.0)]),
+        (&[(vr::MU, 5e-324)], &[(vr::F_D, 1e-300)]),
+        (&[(vr::F_N, 1e-300)], &[(vr::V_D, 0.0)]),
+        (&[(vr::V_D, 0.0), (vr::F_D, 0.0)], &[(vr::F, 0.0)]),
+        (&[(vr::K_T, 1e12)], &[(vr::V_D, 1e-308)]),
+        (&[(vr::K_T, 1e11), (vr::V_D, 2.0)], &[(vr::F_D, -1e-308)]),
+        (&[(vr::M, 1e-6), (vr::F_D, 1e3)], &[]),
+        (&[], &[(vr::U0, 1e-3), (vr::F, 1e4)]),
+    ];
+    let mut paths = std::collections::BTreeSet::new();
+    let mut round_trips = 0;
+    for (file, sc) in standard_scenes() {
+        let fmu = load(file, &format!("state-edges-{file}"));
+        let vrs = all_vrs(&sc);
+        for (init, after) in variants {
+            let init: Vec<_> = init
+                .iter()
+                .copied()
+                .filter(|&(v, x)| accepts(&sc, v, x, false))
+                .collect();
+            let after: Vec<_> = after
+                .iter()
+                .copied()
+                .filter(|&(v, x)| accepts(&sc, v, x, true))
+                .collect();
+            for t0 in [0.0, 16384.0, 1e5, 1e7] {
+                let case = format!("{file} at {t0} s, {init:?} then {after:?}");
+                let start = |name: &str| {
+                    let mut i = fmu.instantiate(name).unwrap();
+                    ok!(i, i.setup_experiment(Some(1e-6), t0, None));
+                    ok!(i, i.enter_initialization_mode());
+                    for &(v, x) in &init {
+                        ok!(i, i.set_real(&[v], &[x]));
+                    }
+                    ok!(i, i.exit_initialization_mode());
+                    for &(v, x) in &after {
+                        ok!(i, i.set_real(&[v], &[x]));
+                    }
+                    i
+                };
+                // The same values in the model, for the paths the steps take.
+                let mut params = sc.start;
+                let mut inputs = sc.inputs;
+                for &(v, x) in &init {
+                    match sc.variables().find(|w| w.vr == v).unwrap().kind {
+                        VarKind::Param(p) => p.set(&mut params, x).unwrap(),
+                        VarKind::Input(i) => *i.slot(&mut inputs) = x,
+                        _ => unreachable!(),
+                    }
+                }
+                let mut sim = Setup::new(sc.config, params)
+                    .inputs(inputs)
+                    .start(t0)
+                    .tolerance(1e-6)
+                    .build()
+                    .unwrap();
+                for &(v, x) in &after {
+                    match sc.variables().find(|w| w.vr == v).unwrap().kind {
+                        VarKind::Param(p) => sim.set_param(p, x).unwrap(),
+                        VarKind::Input(i) => sim.set_input(i, x).unwrap(),
+                        _ => unreachable!(),
+                    }
+                }
+                let steps: Vec<f64> = (1..=5).map(|k| t0 + k as f64 * H).collect();
+                for &t in &steps {
+                    paths.insert(format!("{:?}", sim.integrator()));
+                    if sim.step_to(t).is_err() {
+                        break;
+                    }
+                }
+                let go = |i: &mut vibrofric_import::Instance, from: usize, to: usize| {
+                    (from..to)
+                        .map(|k| {
+                            let t = if k == 0 { t0 } else { steps[k - 1] };
+                            let s = i.do_step(t, steps[k] - t);
+                            (s, i.get_real(&vrs).map(|v| bits(&v)))
+                        })
+                        .collect::<Vec<_>>()
+                };
+                let mut a = start("a");
+                let straight = go(&mut a, 0, 5);
+                for saved_after in [1, 2] {
+                    if straight[..saved_after]
+                        .iter()
+                        .any(|(s, _)| *s != Status::Ok)
+                    {
+                        continue;
+                    }
+                    let mut b = start("b");
+                    go(&mut b, 0, saved_after);
+                    let st = b.get_state().unwrap();
+                    let bytes = b.serialize_state(&st).unwrap();
+                    let want = &straight[saved_after..];
+                    assert_eq!(go(&mut b, saved_after, 5), want, "{case}: taking the state");
+                    // A step too short to advance: refused, the instance in Error.
+                    let t = steps[4];
+                    assert_eq!(b.do_step(t, 1e-300), Status::Error, "{case}");
+                    let s = b.set_state(&st);
+                    assert_eq!(s, Status::Ok, "{case}: {}", b.last_message());
+                    assert_eq!(go(&mut b, saved_after, 5), want, "{case}: same instance");
+                    let mut c = fmu.instantiate("c").unwrap();
+                    let sc2 = c.deserialize_state(&bytes);
+                    let sc2 = sc2.unwrap_or_else(|_| panic!("{case}: {}", c.last_message()));
+                    let s = c.set_state(&sc2);
+                    assert_eq!(s, Status::Ok, "{case}: {}", c.last_message());
+                    assert_eq!(go(&mut c, saved_after, 5), want, "{case}: fresh instance");
+                    round_trips += 1;
+                }
+            }
+        }
+    }
+    let all: Vec<String> = [
+        Integrator::ClosedForm,
+        Integrator::Exponential,
+        Integrator::Explicit,
+        Integrator::ExplicitPlanar,
+        Integrator::Radau,
+    ]
+    .iter()
+    .map(|p| format!("{p:?}"))
+    .collect();
+    let missing: Vec<_> = all.iter().filter(|p| !paths.contains(*p)).collect();
+    assert!(
+        missing.is_empty(),
+        "paths not taken: {missing:?} (taken: {paths:?})"
+    );
+    assert!(round_trips > 500, "{round_trips} round trips");
+    println!("{round_trips} states restored bit for bit; paths taken: {paths:?}");
 }
 
 /// A state saved after a step from a late start time restores, in the same instance and
@@ -294,10 +512,7 @@ fn a_model_exchange_state_saved_after_set_time_anywhere_restores() {
     let fmu = load(file, "state-me-time");
     let sc = scene(file);
     let vrs = all_vrs(&sc);
-    let nx = sc
-        .variables()
-        .filter(|v| matches!(v.kind, vibrofric::description::variables::VarKind::State(_)))
-        .count();
+    let nx = state_count(&sc);
     // The window is the vibration period, 5e-4 s.
     for t in [6e-4, 2.2e-3, -1e-4, 3e3] {
         let mut a = fmu.instantiate_model_exchange("a").unwrap();

@@ -19,6 +19,15 @@
 //! - a function of the other interface, and a saved state of the other interface or of the
 //!   other FMI edition, is refused with fmi2Error;
 //! - fmi2Reset brings an instance back from fmi2Error;
+//! - directed class 1: reads in Initialization Mode after in-range but inconsistent values
+//!   (LuGre's `F_S` below the Coulomb force, `mu` and `F_N` anywhere in range) answer with
+//!   finite values (Model Exchange: also the continuous states, nominals, event indicators and
+//!   derivatives), leaving initialization refuses the inconsistency naming both forces, and the
+//!   reads in Error after it answer too;
+//! - directed class 2 (Co-Simulation): a state saved right after a step with a subnormal, zero
+//!   or tiny input or tunable parameter, on every scene and so on every integrator path,
+//!   restores into the same instance (also after a refused step) and, serialized, into a fresh
+//!   one, and continues bit for bit;
 //! - every call returns within `CALL_BOUND` (an oracle of the fuzzer, not a speed assertion).
 //!
 //! Scene reader: mutated standard scenes never panic; an accepted one exports a model
@@ -38,10 +47,11 @@ use std::time::{Duration, Instant};
 use support::fmu::*;
 use support::scenes::*;
 use vibrofric::description::scene::Scene;
-use vibrofric::description::variables::VarKind;
+use vibrofric::description::variables::{Causality, VarKind, Variability};
 use vibrofric::description::xml;
 use vibrofric::fmi::saved;
 use vibrofric::fmi::staging::Staged;
+use vibrofric::table::ParamId;
 use vibrofric_import::fmi3::Fmu3;
 use vibrofric_import::{CoSimulation, Fmu, Importer, Status};
 
@@ -529,6 +539,250 @@ fn get<F: Importer>(c: &mut Seq<F>) -> (Status, String) {
     )
 }
 
+/// What the two directed classes ran and found: reads in Initialization Mode after in-range but
+/// inconsistent values (LuGre's `F_S` below the Coulomb force, `mu` and `F_N` anywhere), and
+/// states saved right after a step with a subnormal, zero or tiny input or parameter, restored
+/// into the same instance and, serialized, into a fresh one.
+#[derive(Default)]
+struct Directed {
+    /// Sequences into initialization with in-range values; of them, inconsistent ones.
+    initializations: u64,
+    inconsistent: u64,
+    /// Reads (fmi2GetReal, and the continuous states, nominals and event indicators of Model
+    /// Exchange) in Initialization Mode or in Error after it: made, and refused.
+    reads: u64,
+    read_failures: u64,
+    /// States saved after such a step: how many, and how many did not restore or continue bit
+    /// for bit.
+    round_trips: u64,
+    restore_failures: u64,
+    first_failure: Option<String>,
+}
+
+impl Directed {
+    fn fail(&mut self, what: String) {
+        if self.first_failure.is_none() {
+            self.first_failure = Some(what);
+        }
+    }
+
+    fn read(&mut self, ok: bool, what: impl FnOnce() -> String) {
+        self.reads += 1;
+        if !ok {
+            self.read_failures += 1;
+            self.fail(what());
+        }
+    }
+
+    fn summary(&self) -> String {
+        format!(
+            "{} initializations with in-range values ({} inconsistent): {} reads, {} refused; {} states saved after a step at subnormal or zero values, {} did not restore bit for bit{}",
+            self.initializations,
+            self.inconsistent,
+            self.reads,
+            self.read_failures,
+            self.round_trips,
+            self.restore_failures,
+            self.first_failure
+                .as_ref()
+                .map_or(String::new(), |f| format!("; first: {f}"))
+        )
+    }
+
+    fn assert_none_failed(&self) {
+        assert_eq!(
+            (self.read_failures, self.restore_failures),
+            (0, 0),
+            "{}",
+            self.summary()
+        );
+        assert!(
+            self.inconsistent > 0 && self.round_trips > 0,
+            "{}",
+            self.summary()
+        );
+    }
+}
+
+/// Directed class 1: from a reset instance into Initialization Mode at a random start time,
+/// in-range values that are inconsistent where the law has a static force (`F_S` below the
+/// Coulomb force at the scene's load, `mu` or `F_N` anywhere in range), then reads: they never
+/// fail (`more_reads`: Model Exchange's state reads). Leaving initialization refuses the
+/// inconsistent values naming `F_S` and `F_C`; the reads in Error after it answer too.
+fn inconsistent_reads<F: Importer>(
+    c: &mut Seq<F>,
+    d: &mut Directed,
+    mut more_reads: impl FnMut(&mut Seq<F>) -> Result<(), String>,
+) -> (Status, String) {
+    let sc = c.sc;
+    let id = sc.model_identifier.clone();
+    let what = "inconsistent values in initialization".to_string();
+    let s = c.inst.reset();
+    if s != Status::Ok {
+        return (s, what);
+    }
+    c.t = start_time(&mut c.rng);
+    let s = c.inst.enter_initialization(Some(1e-6), c.t, None);
+    if s != Status::Ok {
+        return (s, what);
+    }
+    let fs = ParamId::FS.vr();
+    let has_fs = c.vrs.contains(&fs);
+    let f_c = sc.start.reference_f_c();
+    let mut sets = vec![];
+    if c.rng.below(2) == 0 {
+        let (p, start) = c.rng.pick(&[
+            (ParamId::Mu.vr(), sc.start.mu),
+            (ParamId::FN.vr(), sc.start.f_n),
+        ]);
+        if c.vrs.contains(&p) {
+            sets.push((p, value(&mut c.rng, start)));
+        }
+    }
+    let f_s = f_c * c.rng.pick(&[0.0, 5e-324, 1e-300, 0.5, 0.999_999, 1.0, 2.0]);
+    if has_fs {
+        sets.push((fs, f_s));
+    }
+    for &(vr, x) in &sets {
+        let s = c.inst.set_f64(&[vr], &[x]);
+        if s != Status::Ok {
+            // Out of range: refused as it should be; not this class.
+            return (s, format!("{what}: set vr {vr} = {x:e}"));
+        }
+    }
+    let inverted = has_fs && f_s < f_c;
+    d.initializations += 1;
+    d.inconsistent += inverted as u64;
+    let vrs = c.vrs.clone();
+    let read = c.inst.get_f64(&vrs);
+    let message = c.inst.last_message();
+    d.read(
+        matches!(&read, Ok(v) if v.iter().all(|x| x.is_finite())),
+        || format!("{id}: get in Initialization Mode after {sets:?}: {read:?}: {message}"),
+    );
+    let more = more_reads(c);
+    d.read(more.is_ok(), || {
+        format!("{id}: in Initialization Mode after {sets:?}: {more:?}")
+    });
+    let exit = c.inst.exit_initialization_mode();
+    let message = c.inst.last_message();
+    if inverted {
+        assert_eq!(
+            exit,
+            Status::Error,
+            "{id}: F_S = {f_s:e} < F_C = {f_c} accepted"
+        );
+        assert!(
+            message.contains("is below the Coulomb force F_C"),
+            "{id}: {message}"
+        );
+    }
+    // In Error (or stepping) the values read as they stand.
+    let read = c.inst.get_f64(&vrs);
+    let message = c.inst.last_message();
+    d.read(
+        matches!(&read, Ok(v) if v.iter().all(|x| x.is_finite())),
+        || format!("{id}: get after leaving initialization ({exit:?}) after {sets:?}: {read:?}: {message}"),
+    );
+    (exit, what)
+}
+
+/// Directed class 2: on a stepping instance, an input or tunable parameter set to a subnormal,
+/// zero or tiny value, one step, and the state saved at once; the straight continuation (one
+/// step) against the same instance restored (after, one time in two, a step too short to
+/// advance, refused with fmi2Error) and against a fresh instance from the serialized bytes:
+/// the same statuses and the same values, bit for bit.
+fn subnormal_round_trip<'a, F: Importer>(c: &mut Seq<'a, F>, d: &mut Directed) -> (Status, String) {
+    let sc = c.sc;
+    let config = sc.config;
+    let id = sc.model_identifier.clone();
+    let settable: Vec<u32> = sc
+        .variables()
+        .filter(|v| {
+            v.causality(&config) == Causality::Input
+                || (matches!(v.kind, VarKind::Param(_))
+                    && v.variability(&config) == Variability::Tunable)
+        })
+        .map(|v| v.vr)
+        .collect();
+    if settable.is_empty() {
+        return get(c);
+    }
+    let vr = c.rng.pick(&settable);
+    let x = c.rng.pick(&[
+        0.0,
+        -0.0,
+        5e-324,
+        -5e-324,
+        1e-308,
+        -1e-308,
+        f64::MIN_POSITIVE,
+        1e-300,
+        6.25e-7,
+    ]);
+    let what = format!("subnormal round trip: vr {vr} = {x:e}");
+    let s = c.inst.set_f64(&[vr], &[x]);
+    if s != Status::Ok {
+        return (s, what);
+    }
+    let h = c.rng.pick(&[1e-3, 1e-4, 2.5e-3, 1e-6]);
+    let s = c.inst.do_step(c.t, h);
+    if s != Status::Ok {
+        return (s, format!("{what}, step {h:e}"));
+    }
+    c.t += h;
+    let Ok(st) = c.inst.get_state() else {
+        d.fail(format!("{id}: get state after {what}"));
+        d.restore_failures += 1;
+        return (Status::Error, what);
+    };
+    let bytes = c.inst.serialize_state(&st).unwrap();
+    d.round_trips += 1;
+    let h2 = c.rng.pick(&[1e-3, 1e-4, 2.5e-3]);
+    let t = c.t;
+    let vrs = c.vrs.clone();
+    let continuation = |i: &mut F::Instance<'a>| {
+        let s = i.do_step(t, h2);
+        (s, i.get_f64(&vrs).map(|v| bits(&v)))
+    };
+    let straight = continuation(&mut c.inst);
+    if c.rng.below(2) == 0 {
+        // A step too short to advance the time: refused (Error).
+        c.inst.do_step(t + h2, 1e-300);
+    }
+    let restored = c.inst.set_state(&st);
+    let again = (restored == Status::Ok).then(|| continuation(&mut c.inst));
+    if again.as_ref() != Some(&straight) {
+        d.restore_failures += 1;
+        let message = c.inst.last_message();
+        d.fail(format!(
+            "{id}: at t = {t}, after {what} and a step of {h:e}, the state restored ({restored:?}: {message}) continues {again:?} instead of {straight:?}"
+        ));
+    }
+    let mut fresh = <F as Importer>::instantiate(c.fmu, "fresh").unwrap();
+    let from_bytes = fresh.deserialize_state(&bytes).ok().and_then(|sf| {
+        let s = fresh.set_state(&sf);
+        fresh.free_state(sf);
+        (s == Status::Ok).then(|| continuation(&mut fresh))
+    });
+    if from_bytes.as_ref() != Some(&straight) {
+        d.restore_failures += 1;
+        let message = fresh.last_message();
+        d.fail(format!(
+            "{id}: at t = {t}, after {what} and a step of {h:e}, the state serialized into a fresh instance ({message}) continues {from_bytes:?} instead of {straight:?}"
+        ));
+    }
+    c.inst.free_state(st);
+    if restored != Status::Ok {
+        // Still in Error: the campaign resets.
+        return (Status::Error, what);
+    }
+    if straight.0 == Status::Ok {
+        c.t = t + h2;
+    }
+    (straight.0, what)
+}
+
 #[test]
 fn c_api_call_sequences_keep_the_invariants() {
     let budget = env_u64("VIBROFRIC_FUZZ_CALLS", 300_000);
@@ -548,12 +802,15 @@ fn c_api_call_sequences_keep_the_invariants() {
         },
         // do_step and set_real most often.
         ops: &[
-            0, 1, 2, 3, 4, 5, 6, 7, 7, 8, 8, 9, 9, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
+            0, 1, 2, 3, 4, 5, 6, 7, 7, 8, 8, 9, 9, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19,
         ],
-        may_change: &[12, 14, 15],
+        may_change: &[12, 14, 15, 18, 19],
     };
     let rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1);
+    let mut directed = Directed::default();
     let (calls, oracle) = campaign.run(budget, rng, |c, op| match op {
+        18 => inconsistent_reads(c, &mut directed, |_| Ok(())),
+        19 => subnormal_round_trip(c, &mut directed),
         0 => {
             let tol = c
                 .rng
@@ -652,6 +909,8 @@ fn c_api_call_sequences_keep_the_invariants() {
         _ => get(c),
     });
     println!("{calls} calls (seed {seed}): {}", oracle.summary());
+    println!("directed: {}", directed.summary());
+    directed.assert_none_failed();
 }
 
 /// The same campaign on the FMI 3.0 functions of the same library: random sequences of
@@ -674,11 +933,14 @@ fn fmi3_call_sequences_keep_the_invariants() {
             inst.enter_initialization_mode(Some(1e-6), t0, None);
             inst.exit_initialization_mode();
         },
-        ops: &[0, 1, 2, 2, 3, 3, 3, 4, 5, 6, 7, 8, 2, 3, 9],
-        may_change: &[5, 6, 8],
+        ops: &[0, 1, 2, 2, 3, 3, 3, 4, 5, 6, 7, 8, 2, 3, 9, 10, 11],
+        may_change: &[5, 6, 8, 10, 11],
     };
     let rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) ^ 3 | 1);
+    let mut directed = Directed::default();
     let (calls, oracle) = campaign.run(budget, rng, |c, op| match op {
+        10 => inconsistent_reads(c, &mut directed, |_| Ok(())),
+        11 => subnormal_round_trip(c, &mut directed),
         0 => {
             let tol = c
                 .rng
@@ -714,6 +976,8 @@ fn fmi3_call_sequences_keep_the_invariants() {
         _ => get(c),
     });
     println!("FMI 3.0: {calls} calls (seed {seed}): {}", oracle.summary());
+    println!("FMI 3.0 directed: {}", directed.summary());
+    directed.assert_none_failed();
 }
 
 #[test]
@@ -802,20 +1066,48 @@ fn model_exchange_call_sequences_keep_the_invariants() {
             inst.enter_continuous_time_mode();
         },
         ops: &[
-            0, 1, 2, 3, 4, 5, 6, 6, 7, 7, 8, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17,
+            0, 1, 2, 3, 4, 5, 6, 6, 7, 7, 8, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18,
         ],
-        may_change: &[12, 14, 15],
+        may_change: &[12, 14, 15, 18],
     };
     let rng = Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 3);
+    let mut directed = Directed::default();
     let (calls, oracle) = campaign.run(budget, rng, |c, op| {
-        let nx =
-            c.sc.variables()
-                .filter(|v| matches!(v.kind, VarKind::State(_)))
-                .count();
+        let nx = state_count(c.sc);
         let ni = c.sc.config.event_indicators();
         let sc = c.sc;
         let id = &sc.model_identifier;
         match op {
+            18 => inconsistent_reads(c, &mut directed, |c| {
+                // The continuous states, their nominals, the event indicators and the
+                // derivatives.
+                let f = c.fmu.model_exchange.unwrap();
+                let raw = c.inst.raw();
+                let mut x = vec![0.0; nx];
+                for (name, code) in unsafe {
+                    [
+                        (
+                            "states",
+                            (f.fmi2GetContinuousStates)(raw, x.as_mut_ptr(), nx),
+                        ),
+                        (
+                            "nominals",
+                            (f.fmi2GetNominalsOfContinuousStates)(raw, x.as_mut_ptr(), nx),
+                        ),
+                    ]
+                } {
+                    let s = vibrofric_import::status(code);
+                    if s != Status::Ok {
+                        return Err(format!("{name}: {s:?}: {}", c.inst.last_message()));
+                    }
+                }
+                let z = c.inst.get_event_indicators(ni);
+                let dx = c.inst.get_derivatives(nx);
+                match (z, dx) {
+                    (Ok(z), Ok(dx)) if z.iter().chain(&dx).all(|v| v.is_finite()) => Ok(()),
+                    other => Err(format!("{other:?}: {}", c.inst.last_message())),
+                }
+            }),
             0 => {
                 let t0 = match c.rng.below(2) {
                     0 => c.rng.pick(&[0.0, 1e9, -5.0, f64::NAN, 1e300]),
@@ -966,4 +1258,7 @@ fn model_exchange_call_sequences_keep_the_invariants() {
         "Model Exchange: {calls} calls (seed {seed}): {}",
         oracle.summary()
     );
+    println!("Model Exchange directed: {}", directed.summary());
+    assert_eq!(directed.read_failures, 0, "{}", directed.summary());
+    assert!(directed.inconsistent > 0, "{}", directed.summary());
 }

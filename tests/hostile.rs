@@ -5,7 +5,7 @@
 
 mod support;
 
-use support::scenes::{scene, standard_scenes, start, STANDARD_SCENES};
+use support::scenes::{scene, standard_scenes, start, state_count, STANDARD_SCENES};
 use vibrofric::model::{build, InputId, OutputId, SimError, TOLERANCE_RANGE};
 use vibrofric::solver::SolverError;
 use vibrofric::table::ParamId;
@@ -233,16 +233,11 @@ fn reduction_is_offered_only_under_the_velocity_drive() {
 #[test]
 fn model_exchange_states_far_from_any_trajectory_are_discarded() {
     use support::fmu::{all_vrs, bits, load, vr};
-    use vibrofric::description::variables::VarKind;
     use vibrofric_import::Status;
     for file in STANDARD_SCENES {
         let sc = scene(file);
         let vrs = all_vrs(&sc);
-        let nx = sc
-            .variables()
-            .filter(|v| matches!(v.kind, VarKind::State(_)))
-            .count();
-        let ni = sc.config.event_indicators();
+        let (nx, ni) = (state_count(&sc), sc.config.event_indicators());
         let fmu = load(file, &format!("domain-{file}"));
         let mut i = fmu.instantiate_model_exchange("domain").unwrap();
         assert_eq!(i.enter_initialization_mode(), Status::Ok);
@@ -296,7 +291,6 @@ fn model_exchange_states_far_from_any_trajectory_are_discarded() {
 #[test]
 fn an_unstable_importer_integration_is_discarded_within_a_few_steps() {
     use support::fmu::{load, vr};
-    use vibrofric::description::variables::VarKind;
     use vibrofric_import::Status;
     for file in [
         "paper-longitudinal.toml",
@@ -304,10 +298,7 @@ fn an_unstable_importer_integration_is_discarded_within_a_few_steps() {
         "contact.toml",
     ] {
         let sc = scene(file);
-        let nx = sc
-            .variables()
-            .filter(|v| matches!(v.kind, VarKind::State(_)))
-            .count();
+        let nx = state_count(&sc);
         let fmu = load(file, &format!("euler-{file}"));
         let mut i = fmu.instantiate_model_exchange("euler").unwrap();
         assert_eq!(i.setup_experiment(None, 0.0, None), Status::Ok);

@@ -38,6 +38,13 @@ pub fn standard_scenes() -> Vec<(&'static str, Scene)> {
     STANDARD_SCENES.iter().map(|f| (*f, scene(f))).collect()
 }
 
+/// The number of continuous states of the scene's Model Exchange interface.
+pub fn state_count(sc: &Scene) -> usize {
+    sc.variables()
+        .filter(|v| matches!(v.kind, vibrofric::description::variables::VarKind::State(_)))
+        .count()
+}
+
 /// The core for a scene at `t = 0`: its start values and every input it has, tolerance `tol`.
 pub fn start(sc: &Scene, tol: f64) -> Box<dyn Simulator> {
     Setup::new(sc.config, sc.start)

@@ -280,7 +280,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.radau.y = y;
         self.radau.t = t_target;
         self.radau.restart();
-        self.exp_h = ei.h;
+        self.propose(ei.h);
         let st = &mut self.radau.stats;
         st.steps += ei.steps;
         st.rejected += ei.rejected;

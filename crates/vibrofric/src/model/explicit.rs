@@ -463,7 +463,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.radau.y = y;
         self.radau.t = t_target;
         self.radau.restart();
-        self.exp_h = h;
+        self.propose(h);
         self.direction = sigma;
         Ok([integral, 0.0])
     }

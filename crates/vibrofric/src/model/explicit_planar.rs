@@ -309,7 +309,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.radau.y = y;
         self.radau.t = t_target;
         self.radau.restart();
-        self.exp_h = run.h;
+        self.propose(run.h);
         Ok(integral)
     }
 

@@ -80,15 +80,35 @@ pub fn build_on(
     tolerance: f64,
     path: Integrator,
 ) -> Result<Box<dyn Simulator>, SimError> {
+    consistent(config, &params)?;
+    build_inconsistent(config, params, t_start, tolerance, path)
+}
+
+/// The rules between parameters that each obey their own range: what a simulation refuses to
+/// start from (LuGre's static force below the Coulomb force at the reference load). An FMU
+/// applies them when initialization ends, not to the values it reads before.
+pub fn consistent(config: Config, params: &Params) -> Result<(), SimError> {
+    if config.law.has_static_force() {
+        if let Some(why) = params.static_force_inverted() {
+            return Err(SimError::Inconsistent(why));
+        }
+    }
+    Ok(())
+}
+
+/// [`build_on`] without the rules of [`consistent`]: the model at parameters that are not
+/// final yet, for reading values (each parameter still obeys its own range).
+fn build_inconsistent(
+    config: Config,
+    params: Params,
+    t_start: f64,
+    tolerance: f64,
+    path: Integrator,
+) -> Result<Box<dyn Simulator>, SimError> {
     params.validate()?;
     for id in ParamId::ALL {
         if id.present(&config) {
             id.check_in(id.get(&params), &config)?;
-        }
-    }
-    if config.law.has_static_force() {
-        if let Some(why) = params.static_force_inverted() {
-            return Err(SimError::Inconsistent(why));
         }
     }
     if !(tolerance.is_finite() && tolerance > 0.0) {

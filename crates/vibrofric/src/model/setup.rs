@@ -32,6 +32,9 @@ pub struct Setup {
     /// [`Integrator::Radau`] forces the general integrator (the reference of the tests and
     /// benchmarks); any other value takes the fastest integrator the contact allows.
     pub integrator: Integrator,
+    /// Whether the rules between parameters ([`super::consistent`]) are applied: not to a
+    /// simulator that only reads values at parameters still being set ([`Setup::provisional`]).
+    pub consistent: bool,
 }
 
 impl Setup {
@@ -45,6 +48,7 @@ impl Setup {
             t_start: 0.0,
             tolerance: 1e-6,
             integrator: Integrator::ClosedForm,
+            consistent: true,
         }
     }
 
@@ -79,11 +83,25 @@ impl Setup {
         Setup { integrator, ..self }
     }
 
-    /// The simulator: [`super::build_on`], then each input the configuration has, then the
-    /// derivatives given. The first refusal is returned.
+    /// Without the rules between parameters ([`super::consistent`]): a simulator that reads
+    /// the values at parameters still being set (an FMU's reads before initialization ends,
+    /// which leaving initialization checks). Each parameter still obeys its own range.
+    pub fn provisional(self) -> Setup {
+        Setup {
+            consistent: false,
+            ..self
+        }
+    }
+
+    /// The simulator: [`super::build_on`] (without [`super::consistent`] when
+    /// [`Setup::provisional`]), then each input the configuration has, then the derivatives
+    /// given. The first refusal is returned.
     pub fn build(&self) -> Result<Box<dyn Simulator>, SimError> {
         let c = self.config;
-        let mut sim = super::build_on(
+        if self.consistent {
+            super::consistent(c, &self.params)?;
+        }
+        let mut sim = super::build_inconsistent(
             c,
             self.params,
             self.t_start,

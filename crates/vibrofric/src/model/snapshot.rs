@@ -13,7 +13,28 @@ use crate::physics::{FrictionLaw, Harmonic, Vector};
 use crate::solver::{Radau5, MAX_QUAD};
 use crate::table::{InputId, Params};
 
+/// The one rule of the explicit paths' step proposal (`Contact::exp_h`), kept by stepping and
+/// checked on restore: a length ≥ 0 (0: none yet, the path chooses one), or +∞ where nothing
+/// bounds the next step (no vibration and a rate that vanishes, a subnormal sliding velocity:
+/// a path then steps to its target, as with any proposal beyond it). Anything else (NaN, a
+/// negative length) becomes 0. The paths store their proposal through [`Contact::propose`]
+/// and a restored state must hold a proposal this leaves as it is, so that every proposal a
+/// path stores restores, and only those.
+fn step_proposal(h: f64) -> f64 {
+    if h >= 0.0 {
+        h
+    } else {
+        0.0
+    }
+}
+
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
+    /// Stores the step proposal a path leaves for the next call, under [`step_proposal`]'s
+    /// rule.
+    pub(super) fn propose(&mut self, h: f64) {
+        self.exp_h = step_proposal(h);
+    }
+
     /// The complete state.
     pub(super) fn save(&self) -> ContactState {
         let h = self
@@ -156,7 +177,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 ));
             }
         }
-        if s.exp_h < 0.0 || s.step_mean.h < 0.0 {
+        if step_proposal(s.exp_h).to_bits() != s.exp_h.to_bits() {
+            return bad(format!(
+                "step proposal of the explicit paths = {}: must be a length >= 0, or +inf where nothing bounds the step",
+                s.exp_h
+            ));
+        }
+        if s.step_mean.h < 0.0 {
             return bad("a step length is negative".into());
         }
         if ![-1.0, 0.0, 1.0].contains(&s.direction) {

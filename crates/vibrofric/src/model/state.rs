@@ -23,7 +23,7 @@ pub struct ContactState {
     pub window: WindowState,
     /// The Radau integrator's state, as `Radau5::save` writes it.
     pub integrator: Vec<f64>,
-    /// The exponential integrator's proposed step (0: none yet).
+    /// The explicit paths' proposed step (0: none yet; +inf where nothing bounds it).
     pub exp_h: f64,
     /// The explicit path's branch, the sign of `v_r` (−1, +1; 0 before it is known).
     pub direction: f64,
@@ -80,7 +80,7 @@ impl ContactState {
         for (k, x) in self.integrator.iter().enumerate() {
             v.push((format!("integrator number {k}"), *x));
         }
-        v.push(("exponential step".into(), self.exp_h));
+        // The step proposal `exp_h` has its own rule (+inf allowed): `Contact::load`.
         v.push(("branch of the explicit path".into(), self.direction));
         let s = &self.step_mean;
         let last = s.last.unwrap_or([0.0; MAX_QUAD]);

@@ -53,8 +53,9 @@ pub struct Instance {
     categories: [bool; 4],
     st: Staged,
     sim: Option<Box<dyn Simulator>>,
-    /// Simulator built from the staged values to answer a get before the real one exists;
-    /// dropped whenever a staged value changes.
+    /// Simulator built from the staged values to answer a get before the real one exists
+    /// (without the rules between parameters, see `simulator_now`); dropped whenever a staged
+    /// value changes.
     provisional: Option<Box<dyn Simulator>>,
     /// The call that put the instance in `Error`, and why (cleared when it leaves `Error`).
     error_cause: Option<String>,
@@ -302,14 +303,19 @@ impl Instance {
 
     // ---- what every group of functions uses --------------------------------------------------
 
-    /// The simulator built from the staged values.
-    fn build_sim(&self) -> Result<Box<dyn Simulator>, SimError> {
+    /// The simulator built from the staged values, as leaving initialization builds it.
+    fn setup(&self) -> model::Setup {
         model::Setup::new(self.scene.config, self.st.params)
             .inputs(self.st.inputs)
             .derivatives(self.st.derivs)
             .start(self.st.start_time)
             .tolerance(self.st.tolerance())
-            .build()
+    }
+
+    /// The simulator built from the staged values, checked as leaving initialization checks
+    /// them.
+    fn build_sim(&self) -> Result<Box<dyn Simulator>, SimError> {
+        self.setup().build()
     }
 
     /// The variable with this value reference, or why there is none in this scene.
@@ -328,10 +334,13 @@ impl Instance {
         })
     }
 
-    /// The simulator, or before it exists one built from the staged values.
+    /// The simulator, or before it exists one built from the staged values. That one reads
+    /// values only: the rules between parameters (LuGre's `F_S` ≥ `F_C`) belong to leaving
+    /// initialization, which refuses them, and not to a read (values set in any order).
     fn simulator_now(&mut self) -> Answer<&dyn Simulator> {
         if self.sim.is_none() && self.provisional.is_none() {
-            self.provisional = Some(self.build_sim().map_err(Refusal::error)?);
+            let sim = self.setup().provisional().build();
+            self.provisional = Some(sim.map_err(Refusal::error)?);
         }
         match self.sim.as_deref().or(self.provisional.as_deref()) {
             Some(sim) => Ok(sim),

@@ -2,6 +2,7 @@
 //! derivatives. Every value of a set is checked before any is written.
 
 use super::Instance;
+use crate::description::log::Category;
 use crate::description::variables::{by_vr, Causality, VarKind, Variability, Variable};
 use crate::fmi::refusal::{Answer, Refusal};
 use crate::fmi::staging::Assign;
@@ -45,31 +46,19 @@ impl Instance {
     }
 
     /// Real values by value reference (`fmi2GetReal`, `fmi3GetFloat64`); `values` has the
-    /// length of `vrs`.
+    /// length of `vrs`. In `Error` (where the standard allows reads for debugging) a read does
+    /// not fail on what it evaluates: the values as they stand, and where one cannot be
+    /// evaluated (non-finite), the one of the scene's start values, with a warning naming it.
     pub fn get_values(&mut self, call: Call, vrs: &[u32], values: &mut [f64]) -> Answer {
         let named = vrs
             .iter()
             .map(|&vr| self.named(call, vr))
             .collect::<Answer<Vec<_>>>()?;
-        let now = self.evaluate(&named)?;
-        let (config, time) = (self.scene.config, self.time());
-        for (n, out) in named.iter().zip(values.iter_mut()) {
-            let Named::Var(v) = n else {
-                *out = time;
-                continue;
-            };
-            *out = match v.kind {
-                VarKind::Param(p) => p.get(&self.st.params),
-                VarKind::Input(i) if v.causality(&config) == Causality::Input => {
-                    i.get(&self.st.inputs)
-                }
-                VarKind::Input(_) => OutputId::FDrive.get(&now.outputs),
-                VarKind::Output(o) => o.get(&now.outputs),
-                VarKind::State(x) => now.states[x.index()],
-                VarKind::Derivative(x) => now.derivatives[x.index()],
-                VarKind::Indicator(i) => now.indicators[i.index(&config)],
-            };
+        if self.st.state == State::Error {
+            return self.get_values_in_error(call, &named, values);
         }
+        let now = self.evaluate(&named)?;
+        self.fill(&named, &now, values);
         // OK never comes with a non-finite value (the ranges are chosen so that none arises;
         // this is the last guard).
         if let Some((n, x)) = named
@@ -88,52 +77,113 @@ impl Instance {
         Ok(Status::Ok)
     }
 
+    /// [`Instance::get_values`] in `Error`: the values as they stand (Model Exchange's states
+    /// wherever they were set); a value that is not finite, or all of them if none can be
+    /// evaluated, replaced by the value at the scene's start values, with a warning that says
+    /// which and why.
+    fn get_values_in_error(&mut self, call: Call, named: &[Named], values: &mut [f64]) -> Answer {
+        let config = self.scene.config;
+        let (bad, why): (Vec<usize>, _) = match self.evaluate(named) {
+            Ok(now) => {
+                self.fill(named, &now, values);
+                let bad = (0..named.len()).filter(|&k| !values[k].is_finite());
+                (bad.collect(), None)
+            }
+            Err(Refusal::Internal(what)) => return Err(Refusal::Internal(what)),
+            Err(Refusal::Error(why) | Refusal::Discard(why) | Refusal::StepFailed(why)) => {
+                // Parameters, inputs and the time as set; nothing the simulator evaluates.
+                self.fill(named, &Evaluated::none(), values);
+                let bad = (0..named.len()).filter(|&k| match named[k] {
+                    Named::Var(v) => {
+                        v.output(&config).is_some()
+                            || !matches!(v.kind, VarKind::Param(_) | VarKind::Input(_))
+                    }
+                    Named::Time => false,
+                });
+                (bad.collect(), Some(why))
+            }
+        };
+        if bad.is_empty() {
+            return Ok(Status::Ok);
+        }
+        let start = model::Setup::new(self.scene.config, self.scene.start)
+            .inputs(self.scene.inputs)
+            .start(self.st.start_time)
+            .tolerance(self.st.tolerance())
+            .build()
+            .map_err(|e| Refusal::Internal(format!("the scene's start values: {e}")))?;
+        let mut at_start = vec![0.0; named.len()];
+        let now = evaluate_on(start.as_ref(), config, named);
+        self.fill(named, &now, &mut at_start);
+        let names: Vec<String> = bad
+            .iter()
+            .map(|&k| {
+                values[k] = at_start[k];
+                format!("{} = {}", named[k].name(), number(at_start[k]))
+            })
+            .collect();
+        let why = why.unwrap_or_else(|| "not finite as they stand".into());
+        let cause = self
+            .error_cause
+            .as_deref()
+            .unwrap_or("a state restored in Error");
+        self.log(
+            Status::Warning,
+            Category::StatusWarning,
+            &format!(
+                "{}: the instance is in Error (since {cause}); {why}: returned, for debugging, the values at the scene's start values: {} [instance \"{}\"]",
+                call.name,
+                names.join(", "),
+                self.name
+            ),
+        );
+        Ok(Status::Warning)
+    }
+
+    /// Writes the values of `named` into `values`: parameters and inputs as set, the time, and
+    /// what `now` evaluated.
+    fn fill(&self, named: &[Named], now: &Evaluated, values: &mut [f64]) {
+        let (config, time) = (self.scene.config, self.time());
+        for (n, out) in named.iter().zip(values.iter_mut()) {
+            let Named::Var(v) = n else {
+                *out = time;
+                continue;
+            };
+            *out = match v.kind {
+                VarKind::Param(p) => p.get(&self.st.params),
+                VarKind::Input(i) if v.causality(&config) == Causality::Input => {
+                    i.get(&self.st.inputs)
+                }
+                VarKind::Input(_) => OutputId::FDrive.get(&now.outputs),
+                VarKind::Output(o) => o.get(&now.outputs),
+                VarKind::State(x) => now.states[x.index()],
+                VarKind::Derivative(x) => now.derivatives[x.index()],
+                VarKind::Indicator(i) => now.indicators[i.index(&config)],
+            };
+        }
+    }
+
     /// What a get of these variables reads from the simulator, and only that: outputs (one
     /// evaluation), and the states, derivatives and event indicators of Model Exchange when
-    /// one of them is asked for. Model Exchange evaluates only inside the model's domain.
+    /// one of them is asked for. Model Exchange evaluates only inside the model's domain
+    /// (except in `Error`, where the values are read as they stand, for debugging).
     fn evaluate(&mut self, named: &[Named]) -> Answer<Evaluated> {
         let config = self.scene.config;
-        let asks = |kind: fn(&VarKind) -> bool| {
-            named
-                .iter()
-                .any(|n| matches!(n, Named::Var(v) if kind(&v.kind)))
-        };
-        let outputs = named
-            .iter()
-            .any(|n| matches!(n, Named::Var(v) if v.output(&config).is_some()));
-        let states = asks(|k| matches!(k, VarKind::State(_)));
-        let derivatives = asks(|k| matches!(k, VarKind::Derivative(_)));
-        let indicators = asks(|k| matches!(k, VarKind::Indicator(_)));
-        let mut now = Evaluated {
-            outputs: Outputs::default(),
-            states: [0.0; StateId::COUNT],
-            derivatives: [0.0; StateId::COUNT],
-            indicators: [0.0; IndicatorId::ALL.len()],
-        };
-        if !(outputs || states || derivatives || indicators) {
-            return Ok(now);
+        let asks = evaluates(config, named);
+        if !asks.any() {
+            return Ok(Evaluated::none());
         }
         self.simulator_now()?;
         let exchange = self.interface == Interface::ModelExchange;
-        if exchange && (outputs || derivatives || indicators) {
+        if exchange
+            && self.st.state != State::Error
+            && (asks.outputs || asks.derivatives || asks.indicators)
+        {
             if let Some(r) = self.out_of_domain(None) {
                 return Err(r);
             }
         }
-        let sim = self.simulator_now()?;
-        if outputs {
-            now.outputs = sim.outputs();
-        }
-        if states {
-            now.states = sim.states();
-        }
-        if derivatives {
-            now.derivatives = sim.derivatives();
-        }
-        if indicators {
-            sim.event_indicators(&mut now.indicators[..config.event_indicators()]);
-        }
-        Ok(now)
+        Ok(evaluate_on(self.simulator_now()?, config, named))
     }
 
     /// Real values by value reference (`fmi2SetReal`, `fmi3SetFloat64`): every value is checked
@@ -346,4 +396,64 @@ impl Instance {
             }
         }
     }
+}
+
+/// Which of the simulator's values a get asks for.
+struct Asks {
+    outputs: bool,
+    states: bool,
+    derivatives: bool,
+    indicators: bool,
+}
+
+impl Asks {
+    fn any(&self) -> bool {
+        self.outputs || self.states || self.derivatives || self.indicators
+    }
+}
+
+fn evaluates(config: crate::table::Config, named: &[Named]) -> Asks {
+    let asks = |kind: fn(&VarKind) -> bool| {
+        named
+            .iter()
+            .any(|n| matches!(n, Named::Var(v) if kind(&v.kind)))
+    };
+    Asks {
+        outputs: named
+            .iter()
+            .any(|n| matches!(n, Named::Var(v) if v.output(&config).is_some())),
+        states: asks(|k| matches!(k, VarKind::State(_))),
+        derivatives: asks(|k| matches!(k, VarKind::Derivative(_))),
+        indicators: asks(|k| matches!(k, VarKind::Indicator(_))),
+    }
+}
+
+impl Evaluated {
+    fn none() -> Evaluated {
+        Evaluated {
+            outputs: Outputs::default(),
+            states: [0.0; StateId::COUNT],
+            derivatives: [0.0; StateId::COUNT],
+            indicators: [0.0; IndicatorId::ALL.len()],
+        }
+    }
+}
+
+/// The values of `sim` a get of `named` reads (zero where not asked for).
+fn evaluate_on(sim: &dyn Simulator, config: crate::table::Config, named: &[Named]) -> Evaluated {
+    let asks = evaluates(config, named);
+    let mut now = Evaluated::none();
+    if asks.outputs {
+        now.outputs = sim.outputs();
+    }
+    if asks.states {
+        now.states = sim.states();
+    }
+    if asks.derivatives {
+        now.derivatives = sim.derivatives();
+    }
+    if asks.indicators {
+        sim.event_indicators(&mut now.indicators[..config.event_indicators()]);
+    }
+    now
 }
