@@ -24,19 +24,14 @@
 //!   derivatives, event indicators and updates, directional derivatives.
 
 mod contact;
-mod coulomb_limit;
 mod drive;
 mod dynamics;
-mod elastic;
-mod exact;
 mod exchange;
-mod explicit;
-mod explicit_planar;
 mod ode;
+mod paths;
 mod setup;
 mod simulator;
 mod snapshot;
-mod stage_support;
 mod state;
 mod time;
 mod window;

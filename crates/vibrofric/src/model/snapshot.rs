@@ -5,6 +5,7 @@
 
 use super::contact::Contact;
 use super::drive::DriveKind;
+use super::paths::Saved;
 use super::simulator::SimError;
 use super::state::{ContactState, StepMeanState, WindowState};
 use super::time::{boundary_snap, MAX_INPUT_RATE, WINDOWS_MAX};
@@ -37,8 +38,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 last: self.window.last,
             },
             integrator,
-            exp_h: self.exp_h,
-            direction: self.direction,
+            exp_h: self.paths.h,
+            direction: self.paths.direction(),
             step_mean: StepMeanState {
                 last: self.step.last,
                 h: self.step.h,
@@ -180,13 +181,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             last: w.last,
         };
         c.radau = radau;
-        c.radau_only = self.radau_only;
-        c.exp_h = s.exp_h;
-        c.direction = s.direction;
-        if c.params.r_ba == self.params.r_ba {
-            // The same breakaway ratio: the same shape, without fitting it again.
-            c.elastoplastic = self.elastoplastic.clone();
-        }
+        // The same breakaway ratio: the same shape, without fitting it again.
+        let same_shape = c.params.r_ba == self.params.r_ba;
+        let kept = Saved::new(s.exp_h, s.direction);
+        c.paths.load(&self.paths, kept, same_shape);
         c.step = StepMean {
             acc: [0.0; MAX_QUAD],
             last: s.step_mean.last,

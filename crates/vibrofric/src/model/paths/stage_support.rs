@@ -3,8 +3,8 @@
 //! sines and cosines per attempt rather than a cosine at each of its five distinct stage
 //! times; the input tracks' at each time.
 
-use super::drive::DriveKind;
-use super::dynamics::Dynamics;
+use crate::model::drive::DriveKind;
+use crate::model::dynamics::Dynamics;
 use crate::physics::{trig, FrictionLaw, Harmonic, InputTrack, Vector};
 use crate::solver::dopri::C;
 use crate::table::InputId;

@@ -22,14 +22,14 @@
 //! the contact as on a spring `k_t`; the explicit method's step then follows its stability
 //! bound (about `3/sqrt(k_t/m)`), which the error control finds by itself.
 
-use super::contact::Contact;
-use super::drive::DriveKind;
 use super::elastic::{elastic_step, ElasticEnd, Forcing};
-use super::simulator::SimError;
 use super::stage_support::StageSupport;
+use super::{Kept, Path, Shape, Shared};
+use crate::model::drive::DriveKind;
+use crate::model::simulator::SimError;
 use crate::physics::{trig, BranchStart, ElastoPlastic, FrictionLaw, Relaxation, Vector};
 use crate::solver::dopri::{factor, first_step, DoPriStep, C};
-use crate::solver::{OdeSystem, Quad, SolverError};
+use crate::solver::{Quad, Radau5, SolverError};
 use crate::table::{Drive, InputId};
 use std::sync::Arc;
 
@@ -97,376 +97,371 @@ const BREAKAWAY_AT_START: f64 = 1e-3;
 /// takes from rest (a whole one fails the error test by 20–100 on VibratingContact).
 const RELAX_FIRST: f64 = 0.4;
 
-impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
+/// What the explicit path keeps between calls.
+#[derive(Clone, Debug)]
+pub(in crate::model) struct ExplicitKept {
+    /// The branch: the sign of `v_r` since its last located change (0: not yet known).
+    pub(in crate::model) direction: f64,
+    /// Dupont's deformation along a branch for this contact's breakaway ratio, fitted on first
+    /// use (none where the law has no breakaway or the fit does not converge).
+    pub(in crate::model) elastoplastic: Shape,
+}
+
+/// The explicit path.
+pub(super) struct Explicit;
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N> for Explicit {
     /// True when this contact takes the explicit path: a force or spring drive, Dahl with
     /// `kappa = 1` or Dupont at a constant load, and (planar scenes) the motion on x
-    /// ([`Contact::on_x_axis`]); a stiff Dahl contact only where the vibration keeps the body
+    /// ([`Shared::on_x_axis`]); a stiff Dahl contact only where the vibration keeps the body
     /// sliding ([`HELD_LIMIT`]).
-    pub(super) fn explicit_path(&self) -> bool {
-        if self.radau_only
-            || self.dynamics.load.is_some()
-            || !matches!(self.config.drive, Drive::Force | Drive::Spring)
-            || self.branch_shape().is_none()
+    fn applies(c: &Shared<'_, V, L, D, N>, r: &Radau5<N>, k: &Kept) -> bool {
+        if k.force_radau
+            || c.dynamics.load.is_some()
+            || !matches!(c.config.drive, Drive::Force | Drive::Spring)
+            || branch_shape(c, k).is_none()
         {
             return false;
         }
-        let dahl = self
+        let dahl = c
             .dynamics
             .law
             .relaxation()
             .is_some_and(|r| r.exponent == 1.0);
-        let stiff = (self.params.k_t / self.params.m).sqrt() * self.window.len > HELD_LIMIT;
-        if dahl && stiff && !self.vibration_unheld() {
+        let stiff = (c.params.k_t / c.params.m).sqrt() * c.window_len > HELD_LIMIT;
+        if dahl && stiff && !c.vibration_unheld() {
             return false;
         }
-        self.on_x_axis()
-    }
-
-    /// Whether the harmonic source shakes the support along x harder than the contact can
-    /// hold the body to it: `m·u0·(2·pi·f)²·|cos angle|` at least twice the largest friction
-    /// force `max(F_C, F_S)`, so that the body slides through most of every period and sticks
-    /// at most during the passages of `v_r` through 0.
-    pub(super) fn vibration_unheld(&self) -> bool {
-        let most = self.dynamics.law.envelope() * self.params.k_t;
-        self.dynamics.harmonic.is_some_and(|h| {
-            let w = std::f64::consts::TAU * h.f;
-            self.params.m * h.u0 * w * w * h.dir.0.abs() >= 2.0 * most
-        })
-    }
-
-    /// True when the motion of a force- or spring-driven body (state `[s, x, v]`, each of
-    /// `V::DIM` components) stays on the x axis: a longitudinal contact, or a planar one with
-    /// no lateral deformation, velocity or support motion now (nothing then pushes the body off
-    /// the axis).
-    pub(super) fn on_x_axis(&self) -> bool {
-        if V::DIM == 1 {
-            return true;
-        }
-        let y = self.radau.y.as_slice();
-        let lateral_support = self
-            .dynamics
-            .harmonic
-            .is_some_and(|h| h.dir.1 != 0.0 && h.u0 != 0.0 && h.f != 0.0)
-            || (self.config.input_support && {
-                let t = &self.dynamics.tracks[InputId::VSy.index()];
-                t.value != 0.0 || t.slope != 0.0
-            });
-        y[1] == 0.0 && y[2 * V::DIM + 1] == 0.0 && !lateral_support
-    }
-
-    /// The law's relaxation in the relative displacement along a branch, where the explicit
-    /// path can follow it: Dahl with `kappa = 1` (exponential), or Dupont with the shape of its
-    /// breakaway ratio (elastic, then plastic), fitted on first use.
-    fn branch_shape(&self) -> Option<(Relaxation, Option<Arc<ElastoPlastic>>)> {
-        let law = &self.dynamics.law;
-        if let Some(relax) = law.relaxation().filter(|r| r.exponent == 1.0) {
-            return Some((relax, None));
-        }
-        let (relax, r_ba) = law.breakaway()?;
-        let shape = self
-            .elastoplastic
-            .get_or_init(|| ElastoPlastic::new(r_ba).map(Arc::new));
-        shape.clone().map(|shape| (relax, Some(shape)))
-    }
-
-    /// Dupont under a force drive, within the breakaway `s_ba`: the whole call in closed form
-    /// where the deformation provably stays elastic (a stuck body ringing on the contact), from
-    /// `[s, x, v]` at `t`.
-    fn elastic_call(
-        &self,
-        s_ba: f64,
-        k_t: f64,
-        support: &StageSupport<V>,
-        t: f64,
-        t_target: f64,
-        [s, x, v]: [f64; 3],
-    ) -> Option<ElasticEnd> {
-        if self.config.drive != Drive::Force || s.abs() >= s_ba || t >= t_target {
-            return None;
-        }
-        let (amp, omega, phase, c0, c1) = support.along_x(t);
-        let forcing = Forcing {
-            d0: self.dynamics.drive_inputs(t).f_d,
-            d1: self.dynamics.tracks[InputId::FD.index()].slope,
-            amp,
-            omega,
-            phase,
-            c0,
-            c1,
-        };
-        elastic_step(s, x, v, t_target - t, k_t, self.params.m, s_ba, &forcing)
+        c.on_x_axis(&r.y)
     }
 
     /// Advances the explicit path to `t_target`: `∫F_F dt` over the call.
-    pub(super) fn advance_explicit(&mut self, t_target: f64, h_max: f64) -> Result<Quad, SimError> {
-        let (relax, plastic) = self
-            .branch_shape()
-            .expect("explicit path without a relaxation");
-        let plastic = plastic.as_deref();
-        let (len, k_t) = (relax.length, relax.stiffness);
-        let (ix, iv) = (V::DIM, 2 * V::DIM);
-        let inv_m = 1.0 / self.params.m;
-        let tol = self.radau.tolerance();
-        let fraction = if plastic.is_some() {
-            DUPONT_TOL_FRACTION
-        } else {
-            TOL_FRACTION
-        };
-        let rtol = (fraction * tol).max(1e-14);
-        let band = 0.05 * tol * len * (k_t * inv_m).sqrt();
-        let band = if band.is_finite() { band } else { 0.0 };
-        let (nom_s, nom_x, nom_v) = (self.scale[0], self.scale[ix], self.scale[iv]);
-        let dynamics = self.dynamics;
-        let input_support = self.config.input_support;
-        let vs = |t: f64| dynamics.support_velocity(t, input_support).x();
-        let mut body = [0.0; 4];
-        body[..D::N_BODY].copy_from_slice(&self.radau.y.as_slice()[V::DIM..]);
-        let accel = move |t: f64, x: f64, v: f64, f: f64| {
-            let mut b = body;
-            b[0] = x;
-            b[V::DIM] = v;
-            let d = dynamics.drive_inputs(t);
-            (dynamics.drive.drive_force(&b[..D::N_BODY], &d) - f) * inv_m
-        };
+    fn advance(
+        c: &Shared<'_, V, L, D, N>,
+        r: &mut Radau5<N>,
+        k: &mut Kept,
+        t_target: f64,
+        h_max: f64,
+    ) -> Result<Quad, SimError> {
+        advance_explicit(c, r, k, t_target, h_max)
+    }
+}
 
-        let mut t = self.radau.t;
-        let mut support = StageSupport::new(&dynamics, input_support, t);
-        let y0 = self.radau.y;
-        let (mut s, mut x, mut v) = (y0[0], y0[ix], y0[iv]);
-        let vr0 = v - vs(t);
-        let mut sigma = self.direction;
-        if sigma == 0.0 || sigma * vr0 < -band {
-            sigma = if vr0 != 0.0 {
-                vr0.signum()
+/// The law's relaxation in the relative displacement along a branch, where the explicit
+/// path can follow it: Dahl with `kappa = 1` (exponential), or Dupont with the shape of its
+/// breakaway ratio (elastic, then plastic), fitted on first use.
+fn branch_shape<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
+    c: &Shared<'_, V, L, D, N>,
+    k: &Kept,
+) -> Option<(Relaxation, Option<Arc<ElastoPlastic>>)> {
+    let law = &c.dynamics.law;
+    if let Some(relax) = law.relaxation().filter(|r| r.exponent == 1.0) {
+        return Some((relax, None));
+    }
+    let (relax, r_ba) = law.breakaway()?;
+    let shape = k
+        .explicit
+        .elastoplastic
+        .get_or_init(|| ElastoPlastic::new(r_ba).map(Arc::new));
+    shape.clone().map(|shape| (relax, Some(shape)))
+}
+
+/// Dupont under a force drive, within the breakaway `s_ba`: the whole call in closed form
+/// where the deformation provably stays elastic (a stuck body ringing on the contact), from
+/// `[s, x, v]` at `t`.
+fn elastic_call<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
+    c: &Shared<'_, V, L, D, N>,
+    s_ba: f64,
+    k_t: f64,
+    support: &StageSupport<V>,
+    t: f64,
+    t_target: f64,
+    [s, x, v]: [f64; 3],
+) -> Option<ElasticEnd> {
+    if c.config.drive != Drive::Force || s.abs() >= s_ba || t >= t_target {
+        return None;
+    }
+    let (amp, omega, phase, c0, c1) = support.along_x(t);
+    let forcing = Forcing {
+        d0: c.dynamics.drive_inputs(t).f_d,
+        d1: c.dynamics.tracks[InputId::FD.index()].slope,
+        amp,
+        omega,
+        phase,
+        c0,
+        c1,
+    };
+    elastic_step(s, x, v, t_target - t, k_t, c.params.m, s_ba, &forcing)
+}
+
+/// Advances the explicit path to `t_target`: `∫F_F dt` over the call.
+fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
+    c: &Shared<'_, V, L, D, N>,
+    r: &mut Radau5<N>,
+    k: &mut Kept,
+    t_target: f64,
+    h_max: f64,
+) -> Result<Quad, SimError> {
+    let (relax, plastic) = branch_shape(c, k).expect("explicit path without a relaxation");
+    let plastic = plastic.as_deref();
+    let (len, k_t) = (relax.length, relax.stiffness);
+    let (ix, iv) = (V::DIM, 2 * V::DIM);
+    let inv_m = 1.0 / c.params.m;
+    let tol = r.tolerance();
+    let fraction = if plastic.is_some() {
+        DUPONT_TOL_FRACTION
+    } else {
+        TOL_FRACTION
+    };
+    let rtol = (fraction * tol).max(1e-14);
+    let band = 0.05 * tol * len * (k_t * inv_m).sqrt();
+    let band = if band.is_finite() { band } else { 0.0 };
+    let (nom_s, nom_x, nom_v) = (c.scale[0], c.scale[ix], c.scale[iv]);
+    let dynamics = *c.dynamics;
+    let input_support = c.config.input_support;
+    let vs = |t: f64| dynamics.support_velocity(t, input_support).x();
+    let mut body = [0.0; 4];
+    body[..D::N_BODY].copy_from_slice(&r.y.as_slice()[V::DIM..]);
+    let accel = move |t: f64, x: f64, v: f64, f: f64| {
+        let mut b = body;
+        b[0] = x;
+        b[V::DIM] = v;
+        let d = dynamics.drive_inputs(t);
+        (dynamics.drive.drive_force(&b[..D::N_BODY], &d) - f) * inv_m
+    };
+
+    let mut t = r.t;
+    let mut support = StageSupport::new(&dynamics, input_support, t);
+    let y0 = r.y;
+    let (mut s, mut x, mut v) = (y0[0], y0[ix], y0[iv]);
+    let vr0 = v - vs(t);
+    let mut sigma = k.explicit.direction;
+    if sigma == 0.0 || sigma * vr0 < -band {
+        sigma = if vr0 != 0.0 {
+            vr0.signum()
+        } else {
+            let push = accel(t, x, v, k_t * s);
+            if push < 0.0 {
+                -1.0
             } else {
-                let push = accel(t, x, v, k_t * s);
-                if push < 0.0 {
-                    -1.0
-                } else {
-                    1.0
-                }
-            };
+                1.0
+            }
+        };
+    }
+    let mut integral = 0.0;
+    let mut h = k.h;
+    let mut fsal: Option<[f64; 4]> = None;
+    // The end of a step retaken to end on an event, and whether the event is a reversal
+    // (else Dupont's breakaway, where the deformation turns plastic).
+    let mut event_target: Option<f64> = None;
+    let mut reversal = false;
+    let mut rejected = false;
+    let limit = r.step_limit;
+    if let Some(end) = plastic.and_then(|shape| {
+        elastic_call(c, shape.r_ba() * len, k_t, &support, t, t_target, [s, x, v])
+    }) {
+        (s, x, v) = (end.s, end.x, end.v);
+        integral += end.impulse;
+        t = t_target;
+        r.stats.steps += 1;
+        if end.v_r != 0.0 {
+            sigma = end.v_r.signum();
         }
-        let mut integral = 0.0;
-        let mut h = self.exp_h;
-        let mut fsal: Option<[f64; 4]> = None;
-        // The end of a step retaken to end on an event, and whether the event is a reversal
-        // (else Dupont's breakaway, where the deformation turns plastic).
-        let mut event_target: Option<f64> = None;
-        let mut reversal = false;
-        let mut rejected = false;
-        let limit = self.radau.step_limit;
-        if let Some(end) = plastic.and_then(|shape| {
-            self.elastic_call(shape.r_ba() * len, k_t, &support, t, t_target, [s, x, v])
-        }) {
-            (s, x, v) = (end.s, end.x, end.v);
-            integral += end.impulse;
-            t = t_target;
-            self.radau.stats.steps += 1;
-            if end.v_r != 0.0 {
-                sigma = end.v_r.signum();
+    }
+    let stats = &mut r.stats;
+    while t < t_target {
+        if stats.steps + stats.rejected >= limit {
+            return Err(SimError::Solver(SolverError::WorkLimit {
+                t,
+                limit: limit as f64,
+            }));
+        }
+        let s0 = s;
+        let branch = Branch::new(s0, sigma, len, plastic);
+        let u0 = [0.0, x, v, 0.0];
+        let k1 = match fsal {
+            Some(k) => k,
+            None => {
+                stats.rhs_evals += 1;
+                let f = k_t * s0;
+                let w = support.now(t);
+                [v - w, v, accel(t, x, v, f), f]
+            }
+        };
+        if !k1.iter().all(|z| z.is_finite()) {
+            return Err(SimError::Solver(SolverError::NonFinite { t }));
+        }
+        if h <= 0.0 {
+            let d = ((k1[0] / nom_s).powi(2) + (k1[1] / nom_x).powi(2) + (k1[2] / nom_v).powi(2))
+                .sqrt();
+            h = first_step(d, tol, h_max);
+        }
+        let mut hh = h.min(h_max);
+        if event_target.is_none() {
+            // Heading for a reversal: a step far across it is wasted (against the branch
+            // the deformation swings by 2·s_ss within a few s_ss of relative displacement),
+            // so end it a little past where v_r would vanish at its present rate of change.
+            let (vr, ar) = (k1[0], k1[2] - support.accel_now(t));
+            if sigma * vr > 0.0 && sigma * ar < 0.0 {
+                hh = hh.min(PAST_REVERSAL * (-vr / ar));
+            }
+            // Heading for Dupont's breakaway: likewise a little past where the elastic
+            // room would be used up at the present `v_r` and its rate of change.
+            if let Some(room) = branch.room() {
+                let (u, w) = (sigma * vr, sigma * ar);
+                let d = room * len;
+                // The root of `u·τ + w·τ²/2 = d`, in the form that is exact for `w = 0`.
+                let disc = u * u + 2.0 * w * d;
+                let tau = 2.0 * d / (u + disc.max(0.0).sqrt());
+                if u > 0.0 && disc >= 0.0 && tau > BREAKAWAY_AT_START * hh {
+                    hh = hh.min(PAST_BREAKAWAY * tau);
+                }
             }
         }
-        let stats = &mut self.radau.stats;
-        while t < t_target {
-            if stats.steps + stats.rejected >= limit {
-                return Err(SimError::Solver(SolverError::WorkLimit {
-                    t,
-                    limit: limit as f64,
-                }));
-            }
-            let s0 = s;
-            let branch = Branch::new(s0, sigma, len, plastic);
-            let u0 = [0.0, x, v, 0.0];
-            let k1 = match fsal {
-                Some(k) => k,
-                None => {
-                    stats.rhs_evals += 1;
-                    let f = k_t * s0;
-                    let w = support.now(t);
-                    [v - w, v, accel(t, x, v, f), f]
+        let mut last = false;
+        if let Some(te) = event_target {
+            hh = te - t;
+            last = te >= t_target;
+        } else if t + 1.0001 * hh >= t_target {
+            hh = t_target - t;
+            last = true;
+        }
+        if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
+            return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
+        }
+        // The support velocity at the stage times, and the deformation the right-hand side
+        // finds at each (the last one is the step's end).
+        let vs_at = support.stages(t, hh).map(|w| w.x());
+        let mut s_at = [s0; 7];
+        let mut rhs = |i: usize, tt: f64, u: &[f64; 4]| {
+            let si = branch.at(u[0]);
+            s_at[i] = si;
+            let f = k_t * si;
+            let w = vs_at[i];
+            [u[2] - w, u[2], accel(tt, u[1], u[2], f), f]
+        };
+        let step = DoPriStep::take_staged(&mut rhs, t, &u0, &k1, hh);
+        stats.rhs_evals += 6;
+        let u1 = step.end();
+        // `dv_r/dt` at the step's end, from the last two stages' `v_r`.
+        let vr_rate_end = || (step.k[6][0] - step.k[4][0]) / ((1.0 - C[4]) * hh);
+        let slope = branch.slope(u1[0]);
+        let v_scale = nom_v + v.abs().max(u1[2].abs());
+        let mut e_s = step.err[0] * slope / (rtol * (nom_s + s0.abs()));
+        if !last && tol <= WEIGH_UP_TO {
+            // Short of the call's end the deformation's error counts by what it leaves
+            // ([`PUSH_MARGIN`]): it relaxes along the branch (after Dupont's elastic room),
+            // having pushed the body by at most `(k_t/m)·δξ·|σ·s_ss − s|/|v_r|` in velocity
+            // (the force error `k_t·ds/dξ·δξ` over the time `∫ds/dξ dξ/|v_r|` the branch
+            // takes to relax); what is left of it at the call's end, after the relative
+            // displacement `reach` still ahead (up to a reversal), is its share of the
+            // output's error there.
+            let (vr, ar) = (step.k[6][0], vr_rate_end());
+            let reach = reach_ahead(vr.abs(), sigma * ar, t_target - (t + hh));
+            let pushed = PUSH_MARGIN * step.err[0] * k_t * inv_m * (sigma * len - s_at[6]).abs()
+                / (vr.abs() * rtol * v_scale);
+            e_s = weighed(e_s.abs(), pushed.abs(), || branch.kept(u1[0], reach));
+        }
+        let e = [
+            e_s,
+            step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),
+            step.err[2] / (rtol * v_scale),
+        ];
+        let err = ((e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / 3.0).sqrt();
+        let err = if u1.iter().all(|z| z.is_finite()) && err.is_finite() {
+            err
+        } else {
+            f64::INFINITY
+        };
+        if err > 1.0 {
+            stats.rejected += 1;
+            h = hh * factor(err).min(0.9);
+            event_target = None;
+            rejected = true;
+            fsal = Some(k1);
+            continue;
+        }
+        // An event inside the step: retake the step to end on it.
+        if event_target.is_none() {
+            match event_in(&step, &vs_at, &vs, &branch, band, t, hh) {
+                Some(Event::AtStart) => {
+                    // The reversal is at the step's start: the other branch from here. The
+                    // attempt counts as rejected, so the work limit bounds any repetition.
+                    fsal = Some(k1);
+                    sigma = -sigma;
+                    stats.events += 1;
+                    stats.rejected += 1;
+                    continue;
                 }
-            };
-            if !k1.iter().all(|z| z.is_finite()) {
-                return Err(SimError::Solver(SolverError::NonFinite { t }));
-            }
-            if h <= 0.0 {
-                let d =
-                    ((k1[0] / nom_s).powi(2) + (k1[1] / nom_x).powi(2) + (k1[2] / nom_v).powi(2))
-                        .sqrt();
-                h = first_step(d, tol, h_max);
-            }
-            let mut hh = h.min(h_max);
-            if event_target.is_none() {
-                // Heading for a reversal: a step far across it is wasted (against the branch
-                // the deformation swings by 2·s_ss within a few s_ss of relative displacement),
-                // so end it a little past where v_r would vanish at its present rate of change.
-                let (vr, ar) = (k1[0], k1[2] - support.accel_now(t));
-                if sigma * vr > 0.0 && sigma * ar < 0.0 {
-                    hh = hh.min(PAST_REVERSAL * (-vr / ar));
-                }
-                // Heading for Dupont's breakaway: likewise a little past where the elastic
-                // room would be used up at the present `v_r` and its rate of change.
-                if let Some(room) = branch.room() {
-                    let (u, w) = (sigma * vr, sigma * ar);
-                    let d = room * len;
-                    // The root of `u·τ + w·τ²/2 = d`, in the form that is exact for `w = 0`.
-                    let disc = u * u + 2.0 * w * d;
-                    let tau = 2.0 * d / (u + disc.max(0.0).sqrt());
-                    if u > 0.0 && disc >= 0.0 && tau > BREAKAWAY_AT_START * hh {
-                        hh = hh.min(PAST_BREAKAWAY * tau);
-                    }
-                }
-            }
-            let mut last = false;
-            if let Some(te) = event_target {
-                hh = te - t;
-                last = te >= t_target;
-            } else if t + 1.0001 * hh >= t_target {
-                hh = t_target - t;
-                last = true;
-            }
-            if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
-                return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
-            }
-            // The support velocity at the stage times, and the deformation the right-hand side
-            // finds at each (the last one is the step's end).
-            let vs_at = support.stages(t, hh).map(|w| w.x());
-            let mut s_at = [s0; 7];
-            let mut rhs = |i: usize, tt: f64, u: &[f64; 4]| {
-                let si = branch.at(u[0]);
-                s_at[i] = si;
-                let f = k_t * si;
-                let w = vs_at[i];
-                [u[2] - w, u[2], accel(tt, u[1], u[2], f), f]
-            };
-            let step = DoPriStep::take_staged(&mut rhs, t, &u0, &k1, hh);
-            stats.rhs_evals += 6;
-            let u1 = step.end();
-            // `dv_r/dt` at the step's end, from the last two stages' `v_r`.
-            let vr_rate_end = || (step.k[6][0] - step.k[4][0]) / ((1.0 - C[4]) * hh);
-            let slope = branch.slope(u1[0]);
-            let v_scale = nom_v + v.abs().max(u1[2].abs());
-            let mut e_s = step.err[0] * slope / (rtol * (nom_s + s0.abs()));
-            if !last && tol <= WEIGH_UP_TO {
-                // Short of the call's end the deformation's error counts by what it leaves
-                // ([`PUSH_MARGIN`]): it relaxes along the branch (after Dupont's elastic room),
-                // having pushed the body by at most `(k_t/m)·δξ·|σ·s_ss − s|/|v_r|` in velocity
-                // (the force error `k_t·ds/dξ·δξ` over the time `∫ds/dξ dξ/|v_r|` the branch
-                // takes to relax); what is left of it at the call's end, after the relative
-                // displacement `reach` still ahead (up to a reversal), is its share of the
-                // output's error there.
-                let (vr, ar) = (step.k[6][0], vr_rate_end());
-                let reach = reach_ahead(vr.abs(), sigma * ar, t_target - (t + hh));
-                let pushed =
-                    PUSH_MARGIN * step.err[0] * k_t * inv_m * (sigma * len - s_at[6]).abs()
-                        / (vr.abs() * rtol * v_scale);
-                e_s = weighed(e_s.abs(), pushed.abs(), || branch.kept(u1[0], reach));
-            }
-            let e = [
-                e_s,
-                step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),
-                step.err[2] / (rtol * v_scale),
-            ];
-            let err = ((e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / 3.0).sqrt();
-            let err = if u1.iter().all(|z| z.is_finite()) && err.is_finite() {
-                err
-            } else {
-                f64::INFINITY
-            };
-            if err > 1.0 {
-                stats.rejected += 1;
-                h = hh * factor(err).min(0.9);
-                event_target = None;
-                rejected = true;
-                fsal = Some(k1);
-                continue;
-            }
-            // An event inside the step: retake the step to end on it.
-            if event_target.is_none() {
-                match event_in(&step, &vs_at, &vs, &branch, band, t, hh) {
-                    Some(Event::AtStart) => {
-                        // The reversal is at the step's start: the other branch from here. The
-                        // attempt counts as rejected, so the work limit bounds any repetition.
-                        fsal = Some(k1);
-                        sigma = -sigma;
-                        stats.events += 1;
-                        stats.rejected += 1;
-                        continue;
-                    }
-                    Some(Event::Reversal(theta)) => {
-                        fsal = Some(k1);
-                        reversal = true;
-                        if theta < 1.0 {
-                            event_target = Some(t + theta * hh);
-                            h = hh;
-                            continue;
-                        }
-                        // At the step's end: the reversal is there.
-                        event_target = Some(t + hh);
-                    }
-                    Some(Event::Breakaway(theta)) => {
-                        reversal = false;
+                Some(Event::Reversal(theta)) => {
+                    fsal = Some(k1);
+                    reversal = true;
+                    if theta < 1.0 {
                         event_target = Some(t + theta * hh);
                         h = hh;
-                        fsal = Some(k1);
                         continue;
                     }
-                    None => {}
+                    // At the step's end: the reversal is there.
+                    event_target = Some(t + hh);
                 }
-            }
-            stats.steps += 1;
-            s = s_at[6];
-            x = u1[1];
-            v = u1[2];
-            integral += u1[3];
-            t = if last { t_target } else { t + hh };
-            fsal = Some(step.k[6]);
-            if s.abs() > len {
-                s = len.copysign(s);
-                fsal = None;
-            }
-            let mut h_new = hh * factor(err);
-            if rejected {
-                h_new = h_new.min(hh);
-            }
-            rejected = false;
-            if event_target.is_some() && !reversal {
-                // Just past the breakaway: on along the same branch, with no longer a step than
-                // was proposed before it (the plastic part bends at once).
-                event_target = None;
-                h_new = h_new.min(h);
-            } else if event_target.is_some() {
-                // The reversal: the other branch from here; the step that ended on it was
-                // clipped and says little about the step size.
-                sigma = -sigma;
-                stats.events += 1;
-                event_target = None;
-                h_new = h_new.max(h);
-                // The new branch relaxes over one s_ss of relative displacement, which from
-                // rest takes sqrt(2·s_ss/|dv_r/dt|): the first step a fraction of that (a
-                // stiff contact would otherwise pay for it in rejected steps).
-                let relax = RELAX_FIRST * (2.0 * len / vr_rate_end().abs()).sqrt();
-                if relax.is_finite() && relax > 0.0 {
-                    h_new = h_new.min(relax);
+                Some(Event::Breakaway(theta)) => {
+                    reversal = false;
+                    event_target = Some(t + theta * hh);
+                    h = hh;
+                    fsal = Some(k1);
+                    continue;
                 }
-            } else if last && hh < h {
-                h_new = h_new.max(h);
+                None => {}
             }
-            h = h_new;
         }
-        let mut y = self.radau.y;
-        y[0] = s;
-        y[ix] = x;
-        y[iv] = v;
-        OdeSystem::<N>::project(&self.system(), t_target, &mut y);
-        self.radau.y = y;
-        self.radau.t = t_target;
-        self.radau.restart();
-        self.exp_h = h;
-        self.direction = sigma;
-        Ok([integral, 0.0])
+        stats.steps += 1;
+        s = s_at[6];
+        x = u1[1];
+        v = u1[2];
+        integral += u1[3];
+        t = if last { t_target } else { t + hh };
+        fsal = Some(step.k[6]);
+        if s.abs() > len {
+            s = len.copysign(s);
+            fsal = None;
+        }
+        let mut h_new = hh * factor(err);
+        if rejected {
+            h_new = h_new.min(hh);
+        }
+        rejected = false;
+        if event_target.is_some() && !reversal {
+            // Just past the breakaway: on along the same branch, with no longer a step than
+            // was proposed before it (the plastic part bends at once).
+            event_target = None;
+            h_new = h_new.min(h);
+        } else if event_target.is_some() {
+            // The reversal: the other branch from here; the step that ended on it was
+            // clipped and says little about the step size.
+            sigma = -sigma;
+            stats.events += 1;
+            event_target = None;
+            h_new = h_new.max(h);
+            // The new branch relaxes over one s_ss of relative displacement, which from
+            // rest takes sqrt(2·s_ss/|dv_r/dt|): the first step a fraction of that (a
+            // stiff contact would otherwise pay for it in rejected steps).
+            let relax = RELAX_FIRST * (2.0 * len / vr_rate_end().abs()).sqrt();
+            if relax.is_finite() && relax > 0.0 {
+                h_new = h_new.min(relax);
+            }
+        } else if last && hh < h {
+            h_new = h_new.max(h);
+        }
+        h = h_new;
     }
+    let mut y = r.y;
+    y[0] = s;
+    y[ix] = x;
+    y[iv] = v;
+    c.finish(r, t_target, y);
+    k.h = h;
+    k.explicit.direction = sigma;
+    Ok([integral, 0.0])
 }
 
 /// A step's deformation error `err` (scaled, at least 0) weighed by what it leaves, here and

@@ -46,16 +46,18 @@
 //! that allows enough steps per averaging window ([`STIFF_LIMIT`]), and Radau IIA takes the
 //! rest.
 
-use super::contact::Contact;
-use super::coulomb_limit::Limit;
-use super::drive::{Axial, DriveInputs, DriveKind};
-use super::dynamics::{Dynamics, Eval, System};
+mod coulomb_limit;
+
 use super::explicit::{reach_ahead, weighed, DUPONT_TOL_FRACTION, PUSH_MARGIN, WEIGH_UP_TO};
-use super::simulator::SimError;
 use super::stage_support::StageSupport;
+use super::{Kept, Path, Shared};
+use crate::model::drive::{Axial, DriveInputs, DriveKind};
+use crate::model::dynamics::{Eval, System};
+use crate::model::simulator::SimError;
 use crate::physics::{trig, FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
-use crate::solver::{OdeSystem, Quad, SolverError, SolverStats};
+use crate::solver::{Quad, Radau5, SolverError, SolverStats};
+use coulomb_limit::Limit;
 
 /// The largest width of the integrated vector: the state (6 in planar motion), the integrals
 /// of the friction force's `V::DIM` components and the relaxation arc length
@@ -182,18 +184,23 @@ const AXIAL_DAMPED_LIMIT: f64 = 500.0;
 /// tolerances 1.7e-13; the window mean 2.1e-8 of `F_C`).
 const DAMPED_AXIAL_TOL: f64 = 1e-8;
 
-impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
+/// The planar explicit path.
+pub(super) struct ExplicitPlanar;
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N>
+    for ExplicitPlanar
+{
     /// True when this contact takes the planar explicit path: a planar Dahl contact with
     /// `kappa = 1`, a LuGre contact (planar or longitudinal) or a planar Dupont contact off the
     /// x axis, at a constant load, whose body moves (force, spring or free lateral motion),
     /// whose stuck oscillation is not fast on the scale of the averaging window
     /// ([`STIFF_LIMIT`]; with LuGre's contact damping, [`DAMPED_LIMIT`]; Dupont's plastic
     /// relaxation too, [`DUPONT_LIMIT`], up to the breakaway ratio [`DUPONT_BREAKAWAY_MAX`]).
-    pub(super) fn planar_explicit_path(&self) -> bool {
-        if D::N_BODY == 0 || self.radau_only || self.dynamics.load.is_some() {
+    fn applies(c: &Shared<'_, V, L, D, N>, r: &Radau5<N>, k: &Kept) -> bool {
+        if D::N_BODY == 0 || k.force_radau || c.dynamics.load.is_some() {
             return false;
         }
-        let law = &self.dynamics.law;
+        let law = &c.dynamics.law;
         // Dupont off the x axis (on it, `explicit.rs`'s branches): its weight `alpha` depends
         // on `s`, so its plastic relaxation `|v_r|/s_ss` has no exponential form here and the
         // explicit method integrates it, while that rate (at the relative velocity now and
@@ -202,15 +209,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         if let Some((relax, r_ba)) = law.breakaway() {
             if V::DIM != 2
                 || r_ba > DUPONT_BREAKAWAY_MAX
-                || (self.dynamics.drive.axial().is_some() && self.on_x_axis())
+                || (c.dynamics.drive.axial().is_some() && c.on_x_axis(&r.y))
             {
                 return false;
             }
-            let v = self.eval_now().vr.norm() + self.dynamics.harmonic.map_or(0.0, |h| h.v_a());
-            let rate = (relax.stiffness / self.params.m)
-                .sqrt()
-                .max(v / relax.length);
-            return rate * self.window.len <= DUPONT_LIMIT;
+            let v = c.eval_now(r).vr.norm() + c.dynamics.harmonic.map_or(0.0, |h| h.v_a());
+            let rate = (relax.stiffness / c.params.m).sqrt().max(v / relax.length);
+            return rate * c.window_len <= DUPONT_LIMIT;
         }
         // The fastest rate of a stuck body: its oscillation on the spring `k_t`, or, with a
         // contact damping `c` (LuGre), `c/m` where that is faster.
@@ -218,10 +223,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             // A Dahl contact whose force- or spring-driven motion stays on the x axis is
             // `explicit.rs`'s, or Radau's where that declines it (a stiff contact the
             // vibration does not keep sliding).
-            Some(_) if self.dynamics.drive.axial().is_some() && self.on_x_axis() => {
+            Some(_) if c.dynamics.drive.axial().is_some() && c.on_x_axis(&r.y) => {
                 return false;
             }
-            Some(relax) if relax.exponent == 1.0 => (relax.stiffness / self.params.m).sqrt(),
+            Some(relax) if relax.exponent == 1.0 => (relax.stiffness / c.params.m).sqrt(),
             Some(_) => return false,
             None => {
                 // A law linear in `s` (LuGre): at a vanishing `v_r` its force is
@@ -231,18 +236,18 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     return false;
                 };
                 let damping = lin.force_0.x() / v;
-                let damped = damping / self.params.m * self.window.len;
+                let damped = damping / c.params.m * c.window_len;
                 // A body the vibration does not keep sliding may stick for long, stepped at
                 // the damping's stability bound: [`HELD_DAMPED_LIMIT`]. Where it does, on the
                 // x axis, a stiff contact's deformation is taken on its slow manifold
                 // (`coulomb_limit.rs`) within [`AXIAL_DAMPED_LIMIT`], down to the tolerance
                 // [`DAMPED_AXIAL_TOL`].
-                let limit = if !self.vibration_unheld() {
+                let limit = if !c.vibration_unheld() {
                     HELD_DAMPED_LIMIT
-                } else if damping <= 2.0 * (self.params.m * self.params.k_t).sqrt()
-                    && self.dynamics.drive.axial().is_some()
-                    && self.on_x_axis()
-                    && self.radau.tolerance() >= DAMPED_AXIAL_TOL
+                } else if damping <= 2.0 * (c.params.m * c.params.k_t).sqrt()
+                    && c.dynamics.drive.axial().is_some()
+                    && c.on_x_axis(&r.y)
+                    && r.tolerance() >= DAMPED_AXIAL_TOL
                 {
                     AXIAL_DAMPED_LIMIT
                 } else {
@@ -251,33 +256,39 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 if damped > limit {
                     return false;
                 }
-                (lin.force_s / self.params.m).sqrt()
+                (lin.force_s / c.params.m).sqrt()
             }
         };
-        rate * self.window.len <= STIFF_LIMIT
+        rate * c.window_len <= STIFF_LIMIT
     }
 
     /// Advances the planar explicit path to `t_target`: `∫F_F dt` over the call. A force- or
-    /// spring-driven body whose motion stays on the x axis ([`Contact::on_x_axis`]: LuGre,
+    /// spring-driven body whose motion stays on the x axis ([`Shared::on_x_axis`]: LuGre,
     /// since Dahl there takes `explicit.rs`) is integrated in one dimension, its lateral
     /// deformation, position and velocity left at 0 (nothing moves them): the same steps on
     /// a vector of 5 components instead of 9, about a quarter less time per step; so is a
     /// contact in longitudinal motion, on its own state (the same steps to the last bit:
     /// VibratingContactLuGre in longitudinal motion, `tests/fast_path.rs`).
-    pub(super) fn advance_planar(&mut self, t_target: f64, h_max: f64) -> Result<Quad, SimError> {
+    fn advance(
+        c: &Shared<'_, V, L, D, N>,
+        r: &mut Radau5<N>,
+        k: &mut Kept,
+        t_target: f64,
+        h_max: f64,
+    ) -> Result<Quad, SimError> {
         let mut run = Run {
-            tol: self.radau.tolerance(),
+            tol: r.tolerance(),
             t_target,
             h_max,
-            h: self.exp_h,
-            limit: self.radau.step_limit,
-            stats: self.radau.stats,
-            push: PUSH_MARGIN * self.params.k_t / self.params.m,
+            h: k.h,
+            limit: r.step_limit,
+            stats: r.stats,
+            push: PUSH_MARGIN * c.params.k_t / c.params.m,
         };
-        let t = self.radau.t;
-        let mut y = self.radau.y;
-        let axial = match self.dynamics.drive.axial() {
-            Some(drive) if V::DIM == 2 && self.on_x_axis() => Some(drive),
+        let t = r.t;
+        let mut y = r.y;
+        let axial = match c.dynamics.drive.axial() {
+            Some(drive) if V::DIM == 2 && c.on_x_axis(&r.y) => Some(drive),
             _ => None,
         };
         let integral = match axial {
@@ -285,17 +296,16 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 // `[s_x, s_y, x, y, v_x, v_y]` on `[s, x, v]`.
                 let y = y.as_mut_slice();
                 let mut y1 = [y[0], y[2], y[4]];
-                let scale = [self.scale[0], self.scale[2], self.scale[4]];
+                let scale = [c.scale[0], c.scale[2], c.scale[4]];
                 let ix = match drive {
-                    Axial::Force(d) => self.axial_steps(d, &scale, &mut run, t, &mut y1),
-                    Axial::Spring(d) => self.axial_steps(d, &scale, &mut run, t, &mut y1),
+                    Axial::Force(d) => axial_steps(c, d, &scale, &mut run, t, &mut y1),
+                    Axial::Spring(d) => axial_steps(c, d, &scale, &mut run, t, &mut y1),
                 };
                 [y[0], y[2], y[4]] = y1;
                 ix.map(|ix| [ix[0], 0.0])
             }
             None => {
-                let dynamics = self.dynamics;
-                let sys = self.system_on(&dynamics, &self.scale);
+                let sys = c.system();
                 if V::DIM == 1 {
                     steps::<V, L, D, N, M_AXIAL>(&sys, &mut run, t, y.as_mut_slice())
                 } else {
@@ -303,45 +313,27 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 }
             }
         };
-        self.radau.stats = run.stats;
+        r.stats = run.stats;
         let integral = integral?;
-        OdeSystem::<N>::project(&self.system(), t_target, &mut y);
-        self.radau.y = y;
-        self.radau.t = t_target;
-        self.radau.restart();
-        self.exp_h = run.h;
+        c.finish(r, t_target, y);
+        k.h = run.h;
         Ok(integral)
     }
+}
 
-    /// The path's steps in one dimension, the drive `drive` on the axis, from `(t, y1)` (`[s, x,
-    /// v]`, updated) with the scales `scale`.
-    fn axial_steps<E: DriveKind<f64>>(
-        &self,
-        drive: E,
-        scale: &[f64; 3],
-        run: &mut Run,
-        t: f64,
-        y1: &mut [f64; 3],
-    ) -> Result<Quad, SimError> {
-        let dynamics = self.dynamics.with_drive::<f64, _>(drive);
-        let sys = self.system_on(&dynamics, scale);
-        steps::<f64, L, _, 3, M_AXIAL>(&sys, run, t, y1)
-    }
-
-    /// The right-hand side of this contact's dynamics, or of `dynamics` in place of them.
-    fn system_on<'a, W: Vector, E: DriveKind<W>>(
-        &self,
-        dynamics: &'a Dynamics<W, L, E>,
-        scale: &'a [f64],
-    ) -> System<'a, W, L, E> {
-        System::new(
-            dynamics,
-            self.config.input_support,
-            scale,
-            self.force_scale,
-            self.switch_scale,
-        )
-    }
+/// The path's steps in one dimension, the drive `drive` on the axis, from `(t, y1)` (`[s, x,
+/// v]`, updated) with the scales `scale`.
+fn axial_steps<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, E: DriveKind<f64>>(
+    c: &Shared<'_, V, L, D, N>,
+    drive: E,
+    scale: &[f64; 3],
+    run: &mut Run,
+    t: f64,
+    y1: &mut [f64; 3],
+) -> Result<Quad, SimError> {
+    let dynamics = c.dynamics.with_drive::<f64, _>(drive);
+    let sys = c.system_on(&dynamics, scale);
+    steps::<f64, L, _, 3, M_AXIAL>(&sys, run, t, y1)
 }
 
 /// What one call of the path works to and with: the tolerance, the target, the largest step,

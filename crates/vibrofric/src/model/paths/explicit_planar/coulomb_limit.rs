@@ -65,8 +65,8 @@
 //! 3.8e-8 (9.6e-8). The window mean `F_mean` is less accurate than Radau's at tight
 //! tolerances (at 1e11 and 1e-8: 1.2e-7 of `F_C` against 2.0e-8), with or without this step.
 
-use super::drive::{DriveInputs, DriveKind};
-use super::dynamics::System;
+use crate::model::drive::{DriveInputs, DriveKind};
+use crate::model::dynamics::System;
 use crate::physics::{FrictionLaw, Vector};
 use crate::solver::dopri::DoPriStep;
 use crate::solver::MAX_DIM;
