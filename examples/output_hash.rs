@@ -11,7 +11,7 @@
 #[allow(dead_code)]
 mod scenes;
 
-use vibrofric::model::{Integrator, OutputId, Setup};
+use vibrofric::model::{OutputId, Setup};
 
 /// FNV-1a over bytes.
 struct Fnv(u64);
@@ -43,11 +43,7 @@ fn main() {
                     let setup = Setup::new(scene.config, p)
                         .inputs(scene.inputs)
                         .tolerance(tol);
-                    let setup = if radau {
-                        setup.on(Integrator::Radau)
-                    } else {
-                        setup
-                    };
+                    let setup = setup.force_radau(radau);
                     let mut h = Fnv(0xcbf2_9ce4_8422_2325);
                     let line = match setup.build() {
                         Ok(mut sim) => {

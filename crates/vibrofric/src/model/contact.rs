@@ -74,11 +74,11 @@ pub fn boxed<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     params: Params,
     t_start: f64,
     tolerance: f64,
-    path: Integrator,
+    force_radau: bool,
 ) -> Box<dyn Simulator> {
     assert_eq!(N, V::DIM + D::N_BODY, "state dimension of {config:?}");
     let mut c = Contact::<V, L, D, N>::new(config, params, t_start, tolerance);
-    c.paths.force_radau = path == Integrator::Radau;
+    c.paths.force_radau = force_radau;
     Box::new(c)
 }
 

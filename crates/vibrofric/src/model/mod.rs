@@ -62,17 +62,18 @@ pub fn build(
     t_start: f64,
     tolerance: f64,
 ) -> Result<Box<dyn Simulator>, SimError> {
-    build_on(config, params, t_start, tolerance, Integrator::ClosedForm)
+    build_on(config, params, t_start, tolerance, false)
 }
 
-/// [`build`] with the integrator chosen: [`Integrator::Radau`] forces the general integrator
-/// (for tests and benchmarks of the fast paths); any other takes the fastest that applies.
+/// [`build`], with `force_radau` whether the simulator takes the general integrator
+/// ([`Integrator::Radau`]) at every step even where a faster path applies (the reference of
+/// the tests and benchmarks of the fast paths).
 pub fn build_on(
     config: Config,
     params: Params,
     t_start: f64,
     tolerance: f64,
-    path: Integrator,
+    force_radau: bool,
 ) -> Result<Box<dyn Simulator>, SimError> {
     params.validate()?;
     for id in ParamId::ALL {
@@ -95,15 +96,15 @@ pub fn build_on(
             target: t_start,
         });
     }
-    let c = config;
+    let (c, radau) = (config, force_radau);
     // One arm per (motion, drive) gives the state dimension N at compile time; the law is a
     // type parameter, so every combination is a separately optimised code path.
     macro_rules! with_law {
         ($v:ty, $d:ty, $n:literal) => {
             match c.law {
-                Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance, path),
-                Law::Dupont => boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance, path),
-                Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance, path),
+                Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance, radau),
+                Law::Dupont => boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance, radau),
+                Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance, radau),
             }
         };
     }

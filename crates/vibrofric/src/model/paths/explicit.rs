@@ -22,6 +22,7 @@
 //! the contact as on a spring `k_t`; the explicit method's step then follows its stability
 //! bound (about `3/sqrt(k_t/m)`), which the error control finds by itself.
 
+use super::attempts;
 use super::elastic::{elastic_step, ElasticEnd, Forcing};
 use super::stage_support::StageSupport;
 use super::{Kept, Path, Shape, Shared};
@@ -29,7 +30,7 @@ use crate::model::drive::DriveKind;
 use crate::model::simulator::SimError;
 use crate::physics::{trig, BranchStart, ElastoPlastic, FrictionLaw, Relaxation, Vector};
 use crate::solver::dopri::{factor, first_step, DoPriStep, C};
-use crate::solver::{Quad, Radau5, SolverError};
+use crate::solver::{Quad, Radau5};
 use crate::table::{Drive, InputId};
 use std::sync::Arc;
 
@@ -217,6 +218,13 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     let band = 0.05 * tol * len * (k_t * inv_m).sqrt();
     let band = if band.is_finite() { band } else { 0.0 };
     let (nom_s, nom_x, nom_v) = (c.scale[0], c.scale[ix], c.scale[iv]);
+    let scales = Scales {
+        nom: [nom_s, nom_x, nom_v],
+        rtol,
+        k_t,
+        inv_m,
+        len,
+    };
     let dynamics = *c.dynamics;
     let input_support = c.config.input_support;
     let vs = |t: f64| dynamics.support_velocity(t, input_support).x();
@@ -237,15 +245,13 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     let vr0 = v - vs(t);
     let mut sigma = k.explicit.direction;
     if sigma == 0.0 || sigma * vr0 < -band {
+        // A new branch: `v_r`'s sign, or, at `v_r` = 0, the push's.
         sigma = if vr0 != 0.0 {
             vr0.signum()
+        } else if accel(t, x, v, k_t * s) < 0.0 {
+            -1.0
         } else {
-            let push = accel(t, x, v, k_t * s);
-            if push < 0.0 {
-                -1.0
-            } else {
-                1.0
-            }
+            1.0
         };
     }
     let mut integral = 0.0;
@@ -270,12 +276,7 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     }
     let stats = &mut r.stats;
     while t < t_target {
-        if stats.steps + stats.rejected >= limit {
-            return Err(SimError::Solver(SolverError::WorkLimit {
-                t,
-                limit: limit as f64,
-            }));
-        }
+        attempts::within_limit(stats, limit, t)?;
         let s0 = s;
         let branch = Branch::new(s0, sigma, len, plastic);
         let u0 = [0.0, x, v, 0.0];
@@ -288,9 +289,7 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
                 [v - w, v, accel(t, x, v, f), f]
             }
         };
-        if !k1.iter().all(|z| z.is_finite()) {
-            return Err(SimError::Solver(SolverError::NonFinite { t }));
-        }
+        attempts::finite_start(&k1, t)?;
         if h <= 0.0 {
             let d = ((k1[0] / nom_s).powi(2) + (k1[1] / nom_x).powi(2) + (k1[2] / nom_v).powi(2))
                 .sqrt();
@@ -298,25 +297,8 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
         }
         let mut hh = h.min(h_max);
         if event_target.is_none() {
-            // Heading for a reversal: a step far across it is wasted (against the branch
-            // the deformation swings by 2·s_ss within a few s_ss of relative displacement),
-            // so end it a little past where v_r would vanish at its present rate of change.
             let (vr, ar) = (k1[0], k1[2] - support.accel_now(t));
-            if sigma * vr > 0.0 && sigma * ar < 0.0 {
-                hh = hh.min(PAST_REVERSAL * (-vr / ar));
-            }
-            // Heading for Dupont's breakaway: likewise a little past where the elastic
-            // room would be used up at the present `v_r` and its rate of change.
-            if let Some(room) = branch.room() {
-                let (u, w) = (sigma * vr, sigma * ar);
-                let d = room * len;
-                // The root of `u·τ + w·τ²/2 = d`, in the form that is exact for `w = 0`.
-                let disc = u * u + 2.0 * w * d;
-                let tau = 2.0 * d / (u + disc.max(0.0).sqrt());
-                if u > 0.0 && disc >= 0.0 && tau > BREAKAWAY_AT_START * hh {
-                    hh = hh.min(PAST_BREAKAWAY * tau);
-                }
-            }
+            hh = short_of_events(hh, sigma * vr, sigma * ar, &branch, len);
         }
         let mut last = false;
         if let Some(te) = event_target {
@@ -326,9 +308,7 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
             hh = t_target - t;
             last = true;
         }
-        if !last && hh <= 16.0 * f64::EPSILON * t.abs().max(hh) {
-            return Err(SimError::Solver(SolverError::StepSizeTooSmall { t, h: hh }));
-        }
+        attempts::size_resolved(last, hh, t)?;
         // The support velocity at the stage times, and the deformation the right-hand side
         // finds at each (the last one is the step's end).
         let vs_at = support.stages(t, hh).map(|w| w.x());
@@ -345,37 +325,12 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
         let u1 = step.end();
         // `dv_r/dt` at the step's end, from the last two stages' `v_r`.
         let vr_rate_end = || (step.k[6][0] - step.k[4][0]) / ((1.0 - C[4]) * hh);
-        let slope = branch.slope(u1[0]);
-        let v_scale = nom_v + v.abs().max(u1[2].abs());
-        let mut e_s = step.err[0] * slope / (rtol * (nom_s + s0.abs()));
-        if !last && tol <= WEIGH_UP_TO {
-            // Short of the call's end the deformation's error counts by what it leaves
-            // ([`PUSH_MARGIN`]): it relaxes along the branch (after Dupont's elastic room),
-            // having pushed the body by at most `(k_t/m)·δξ·|σ·s_ss − s|/|v_r|` in velocity
-            // (the force error `k_t·ds/dξ·δξ` over the time `∫ds/dξ dξ/|v_r|` the branch
-            // takes to relax); what is left of it at the call's end, after the relative
-            // displacement `reach` still ahead (up to a reversal), is its share of the
-            // output's error there.
-            let (vr, ar) = (step.k[6][0], vr_rate_end());
-            let reach = reach_ahead(vr.abs(), sigma * ar, t_target - (t + hh));
-            let pushed = PUSH_MARGIN * step.err[0] * k_t * inv_m * (sigma * len - s_at[6]).abs()
-                / (vr.abs() * rtol * v_scale);
-            e_s = weighed(e_s.abs(), pushed.abs(), || branch.kept(u1[0], reach));
-        }
-        let e = [
-            e_s,
-            step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),
-            step.err[2] / (rtol * v_scale),
-        ];
-        let err = ((e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / 3.0).sqrt();
-        let err = if u1.iter().all(|z| z.is_finite()) && err.is_finite() {
-            err
-        } else {
-            f64::INFINITY
-        };
+        // Short of the call's end the deformation's error counts by what it leaves.
+        let ahead = (!last && tol <= WEIGH_UP_TO).then(|| (t_target - (t + hh), vr_rate_end()));
+        let err = scales.error(&step, &u1, &branch, [s0, x, v, s_at[6]], sigma, ahead);
+        let err = attempts::finite_error(err, &u1);
         if err > 1.0 {
-            stats.rejected += 1;
-            h = hh * factor(err).min(0.9);
+            h = attempts::rejected(stats, hh, err);
             event_target = None;
             rejected = true;
             fsal = Some(k1);
@@ -462,6 +417,80 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     k.h = h;
     k.explicit.direction = sigma;
     Ok([integral, 0.0])
+}
+
+/// A step's length `hh` cut a little past the next event where it heads for one at the relative
+/// velocity `u = σ·v_r` and its rate of change `w = σ·dv_r/dt`: a reversal (a step far across
+/// it is wasted: against the branch the deformation swings by 2·s_ss within a few s_ss of
+/// relative displacement), where `v_r` would vanish at its present rate of change; Dupont's
+/// breakaway, where the elastic room of the branch would be used up.
+#[inline(always)]
+fn short_of_events(hh: f64, u: f64, w: f64, branch: &Branch, len: f64) -> f64 {
+    let mut hh = hh;
+    if u > 0.0 && w < 0.0 {
+        hh = hh.min(PAST_REVERSAL * (-u / w));
+    }
+    if let Some(room) = branch.room() {
+        let d = room * len;
+        // The root of `u·τ + w·τ²/2 = d`, in the form that is exact for `w = 0`.
+        let disc = u * u + 2.0 * w * d;
+        let tau = 2.0 * d / (u + disc.max(0.0).sqrt());
+        if u > 0.0 && disc >= 0.0 && tau > BREAKAWAY_AT_START * hh {
+            hh = hh.min(PAST_BREAKAWAY * tau);
+        }
+    }
+    hh
+}
+
+/// What a step's error is scaled with: the nominal `s`, `x`, `v`, the relative tolerance,
+/// `k_t`, `1/m` and `s_ss`.
+struct Scales {
+    nom: [f64; 3],
+    rtol: f64,
+    k_t: f64,
+    inv_m: f64,
+    len: f64,
+}
+
+impl Scales {
+    /// The scaled error of a step on `branch` from `[s0, x, v]` to the end `s1` (the
+    /// deformation) on the branch `sigma`; `ahead`, where the step ends short of its call's
+    /// end (by the time given, with `dv_r/dt` at the step's end), weighs the deformation's
+    /// error by what it leaves ([`PUSH_MARGIN`]): it relaxes along the branch (after Dupont's
+    /// elastic room), having pushed the body by at most `(k_t/m)·δξ·|σ·s_ss − s|/|v_r|` in
+    /// velocity (the force error `k_t·ds/dξ·δξ` over the time `∫ds/dξ dξ/|v_r|` the branch
+    /// takes to relax); what is left of it at the call's end, after the relative
+    /// displacement `reach` still ahead (up to a reversal), is its share of the output's
+    /// error there.
+    #[inline(always)]
+    fn error(
+        &self,
+        step: &DoPriStep<4>,
+        u1: &[f64; 4],
+        branch: &Branch,
+        [s0, x, v, s1]: [f64; 4],
+        sigma: f64,
+        ahead: Option<(f64, f64)>,
+    ) -> f64 {
+        let ([nom_s, nom_x, nom_v], rtol) = (self.nom, self.rtol);
+        let slope = branch.slope(u1[0]);
+        let v_scale = nom_v + v.abs().max(u1[2].abs());
+        let mut e_s = step.err[0] * slope / (rtol * (nom_s + s0.abs()));
+        if let Some((time_ahead, ar)) = ahead {
+            let vr = step.k[6][0];
+            let reach = reach_ahead(vr.abs(), sigma * ar, time_ahead);
+            let pushed =
+                PUSH_MARGIN * step.err[0] * self.k_t * self.inv_m * (sigma * self.len - s1).abs()
+                    / (vr.abs() * rtol * v_scale);
+            e_s = weighed(e_s.abs(), pushed.abs(), || branch.kept(u1[0], reach));
+        }
+        let e = [
+            e_s,
+            step.err[1] / (rtol * (nom_x + x.abs().max(u1[1].abs()))),
+            step.err[2] / (rtol * v_scale),
+        ];
+        ((e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) / 3.0).sqrt()
+    }
 }
 
 /// A step's deformation error `err` (scaled, at least 0) weighed by what it leaves, here and

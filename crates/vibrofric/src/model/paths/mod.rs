@@ -24,6 +24,7 @@
 //! any, a field of [`Kept`]), one line in [`choose`], one arm in [`advance`], and a variant of
 //! [`Integrator`] (`simulator.rs`) with its name.
 
+mod attempts;
 mod elastic;
 mod exact;
 mod explicit;
