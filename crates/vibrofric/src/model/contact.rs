@@ -296,6 +296,81 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         Ok(())
     }
 
+    /// Steps window by window to `t_end` (a communication point within `snap` of a window's
+    /// end completes the window), within `limit` attempts in the work counters: many whole
+    /// windows with the forcing periodic skipped, each window's mean and the step's integrals
+    /// accumulated, the body lifted or put down at the load's events.
+    fn windows_to(
+        &mut self,
+        t_end: f64,
+        snap: f64,
+        h_max: f64,
+        limit: u64,
+    ) -> Result<(), SimError> {
+        while self.radau.t < t_end {
+            let st = &self.radau.stats;
+            if st.steps + st.rejected >= limit {
+                return Err(SimError::Solver(SolverError::WorkLimit {
+                    t: self.radau.t,
+                    limit: self.params.max_steps,
+                }));
+            }
+            // Many whole windows ahead with the forcing periodic: skip all but the last
+            // (whose mean is the output) in O(1).
+            let whole = ((t_end - self.radau.t) / self.window.len).floor();
+            if whole >= 3.0
+                && self.radau.t == self.window.start()
+                && self.inputs_held()
+                && paths::windows_affine(&self.shared(), &self.radau, &self.paths)
+            {
+                self.skip_windows(whole as u64 - 1, h_max)?;
+                continue;
+            }
+            let mut t_b = self.window.end();
+            if (t_b - t_end).abs() <= snap {
+                // A communication point on a window boundary completes the window,
+                // whichever side of it the importer's rounding put the point.
+                t_b = t_end;
+            }
+            let mut target = t_b.min(t_end);
+            let load_event = self.dynamics.load_event(self.radau.t, target);
+            if let Some(t_event) = load_event {
+                target = t_event;
+            }
+            self.integrate(target, h_max)?;
+            if load_event.is_some() {
+                self.dynamics.lifted = !self.dynamics.lifted;
+                self.clear_deformation_if_lifted();
+                self.radau.restart();
+            }
+            if target == t_b {
+                self.window.last = Some(self.window.acc / self.window.len);
+                self.window.acc = 0.0;
+                self.window.index += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// Input derivatives are valid for one step: holds the inputs from the time now on.
+    fn hold_inputs(&mut self) {
+        let t = self.radau.t;
+        for (k, track) in self.dynamics.tracks.iter_mut().enumerate() {
+            if track.slope != 0.0 {
+                if k == 1 {
+                    self.dynamics.x_kin_ref += track.integral(t);
+                    track.t_ref = t;
+                }
+                track.slope = 0.0;
+                self.radau.restart();
+            }
+        }
+        // Keep x_kin anchored near the current time for precision.
+        let vd = &mut self.dynamics.tracks[InputId::VD.index()];
+        self.dynamics.x_kin_ref += vd.integral(t);
+        vd.t_ref = t;
+    }
+
     pub(super) fn f_mean(&self) -> f64 {
         if let Some(m) = self.window.last {
             return m;
@@ -480,47 +555,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         if (t_end - t0) / self.window.len > WINDOWS_MAX {
             return Err(over_limit(t0));
         }
-        let result = (|| {
-            while self.radau.t < t_end {
-                if work(&self.radau.stats) >= limit {
-                    return Err(over_limit(self.radau.t));
-                }
-                // Many whole windows ahead with the forcing periodic: skip all but the last
-                // (whose mean is the output) in O(1).
-                let whole = ((t_end - self.radau.t) / self.window.len).floor();
-                if whole >= 3.0
-                    && self.radau.t == self.window.start()
-                    && self.inputs_held()
-                    && paths::windows_affine(&self.shared(), &self.radau, &self.paths)
-                {
-                    self.skip_windows(whole as u64 - 1, h_max)?;
-                    continue;
-                }
-                let mut t_b = self.window.end();
-                if (t_b - t_end).abs() <= snap {
-                    // A communication point on a window boundary completes the window,
-                    // whichever side of it the importer's rounding put the point.
-                    t_b = t_end;
-                }
-                let mut target = t_b.min(t_end);
-                let load_event = self.dynamics.load_event(self.radau.t, target);
-                if let Some(t_event) = load_event {
-                    target = t_event;
-                }
-                self.integrate(target, h_max)?;
-                if load_event.is_some() {
-                    self.dynamics.lifted = !self.dynamics.lifted;
-                    self.clear_deformation_if_lifted();
-                    self.radau.restart();
-                }
-                if target == t_b {
-                    self.window.last = Some(self.window.acc / self.window.len);
-                    self.window.acc = 0.0;
-                    self.window.index += 1;
-                }
-            }
-            Ok(())
-        })();
+        let result = self.windows_to(t_end, snap, h_max, limit);
         // fmi2OK never comes with a non-finite output.
         let result = result.and_then(|_| {
             let o = self.outputs();
@@ -553,22 +588,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         self.step.last = Some(self.step.acc.map(|a| a / h));
         self.step.h = h;
         self.step.f_start = [f_start.x(), f_start.y()];
-        // Input derivatives are valid for one step: hold the inputs from here on.
-        let t = self.radau.t;
-        for (k, track) in self.dynamics.tracks.iter_mut().enumerate() {
-            if track.slope != 0.0 {
-                if k == 1 {
-                    self.dynamics.x_kin_ref += track.integral(t);
-                    track.t_ref = t;
-                }
-                track.slope = 0.0;
-                self.radau.restart();
-            }
-        }
-        // Keep x_kin anchored near the current time for precision.
-        let vd = &mut self.dynamics.tracks[InputId::VD.index()];
-        self.dynamics.x_kin_ref += vd.integral(t);
-        vd.t_ref = t;
+        self.hold_inputs();
         Ok(())
     }
 

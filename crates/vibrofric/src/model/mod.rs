@@ -9,16 +9,15 @@
 //! - `drive.rs`: how the body is moved (force, velocity, spring drive) and its equations;
 //! - `dynamics.rs`: the right-hand side and its Jacobian: deformation rate of the law, body,
 //!   normal load and lift-off, the relative velocity from the sources;
-//! - `contact.rs`: the contact the simulator steps: integrator choice, communication steps,
+//! - `contact.rs`: the contact the simulator steps: communication steps, averaging windows,
 //!   outputs;
+//! - `paths/`: the ways a contact is advanced, one room each (the closed form, the exponential
+//!   path, the explicit path, the planar explicit path with its steps on the Coulomb limit,
+//!   Radau IIA), behind one interface, and the one choice between them (`paths/mod.rs`);
 //! - `state.rs`, `snapshot.rs`: the contact's complete state by name; taking it and restoring
 //!   it with every field checked;
 //! - `window.rs`: the running means (`F_mean` over averaging windows, the step means);
 //! - `time.rs`: communication points as importers compute them, and time limits;
-//! - `exact.rs`: the closed-form path (longitudinal Dahl under velocity drive);
-//! - `explicit.rs`: the explicit path (a body on a Dahl contact, moving along x);
-//! - `explicit_planar.rs`: the planar explicit path (a body on a planar Dahl or LuGre contact),
-//!   and `coulomb_limit.rs`, its step on a stiff Dahl contact's slow manifold (the body alone);
 //! - `ode.rs`: the equations as a plain ODE for other integrators;
 //! - `exchange.rs`: the contact for an importer's integrator (Model Exchange): states,
 //!   derivatives, event indicators and updates, directional derivatives.

@@ -30,7 +30,7 @@ use crate::model::drive::DriveKind;
 use crate::model::simulator::SimError;
 use crate::physics::{trig, BranchStart, ElastoPlastic, FrictionLaw, Relaxation, Vector};
 use crate::solver::dopri::{factor, first_step, DoPriStep, C};
-use crate::solver::{Quad, Radau5};
+use crate::solver::{Quad, Radau5, SolverStats};
 use crate::table::{Drive, InputId};
 use std::sync::Arc;
 
@@ -209,22 +209,8 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     let (ix, iv) = (V::DIM, 2 * V::DIM);
     let inv_m = 1.0 / c.params.m;
     let tol = r.tolerance();
-    let fraction = if plastic.is_some() {
-        DUPONT_TOL_FRACTION
-    } else {
-        TOL_FRACTION
-    };
-    let rtol = (fraction * tol).max(1e-14);
-    let band = 0.05 * tol * len * (k_t * inv_m).sqrt();
-    let band = if band.is_finite() { band } else { 0.0 };
-    let (nom_s, nom_x, nom_v) = (c.scale[0], c.scale[ix], c.scale[iv]);
-    let scales = Scales {
-        nom: [nom_s, nom_x, nom_v],
-        rtol,
-        k_t,
-        inv_m,
-        len,
-    };
+    let sc = Scales::new(c, tol, relax, plastic.is_some());
+    let band = sc.band;
     let dynamics = *c.dynamics;
     let input_support = c.config.input_support;
     let vs = |t: f64| dynamics.support_velocity(t, input_support).x();
@@ -255,13 +241,6 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
         };
     }
     let mut integral = 0.0;
-    let mut h = k.h;
-    let mut fsal: Option<[f64; 4]> = None;
-    // The end of a step retaken to end on an event, and whether the event is a reversal
-    // (else Dupont's breakaway, where the deformation turns plastic).
-    let mut event_target: Option<f64> = None;
-    let mut reversal = false;
-    let mut rejected = false;
     let limit = r.step_limit;
     if let Some(end) = plastic.and_then(|shape| {
         elastic_call(c, shape.r_ba() * len, k_t, &support, t, t_target, [s, x, v])
@@ -274,7 +253,82 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
             sigma = end.v_r.signum();
         }
     }
-    let stats = &mut r.stats;
+    let mut w = Walk {
+        t,
+        s,
+        x,
+        v,
+        sigma,
+        h: k.h,
+        integral,
+    };
+    let calls = (&accel, &vs, t_target, h_max, limit);
+    walk(&mut w, &sc, plastic, &mut support, &mut r.stats, calls)?;
+    let Walk {
+        s,
+        x,
+        v,
+        sigma,
+        h,
+        integral,
+        ..
+    } = w;
+    let mut y = r.y;
+    y[0] = s;
+    y[ix] = x;
+    y[iv] = v;
+    c.finish(r, t_target, y);
+    k.h = h;
+    k.explicit.direction = sigma;
+    Ok([integral, 0.0])
+}
+
+/// Where the explicit path's walk along the branches is: the time, `[s, x, v]`, the branch,
+/// the proposed step and `∫F_Fx dt` so far.
+#[derive(Clone, Copy)]
+struct Walk {
+    t: f64,
+    s: f64,
+    x: f64,
+    v: f64,
+    sigma: f64,
+    h: f64,
+    integral: f64,
+}
+
+/// The body's acceleration at `(t, x, v)` under the force `f` from the contact, the support
+/// velocity along x at `t`, the target, the largest step and the work limit.
+type Calls<'f, A, S> = (&'f A, &'f S, f64, f64, u64);
+
+/// The explicit path's steps from `state` to the call's end (`state` updated) with the error scales
+/// `sc` on Dupont's `plastic` shape, if any, the support's stage velocities `support` and the
+/// counts `stats`.
+#[inline(always)]
+fn walk<V: Vector, A: Fn(f64, f64, f64, f64) -> f64, S: Fn(f64) -> f64>(
+    state: &mut Walk,
+    sc: &Scales,
+    plastic: Option<&ElastoPlastic>,
+    support: &mut StageSupport<V>,
+    stats: &mut SolverStats,
+    calls: Calls<'_, A, S>,
+) -> Result<(), SimError> {
+    let (accel, vs, t_target, h_max, limit) = calls;
+    let Walk {
+        mut t,
+        mut s,
+        mut x,
+        mut v,
+        mut sigma,
+        mut h,
+        mut integral,
+    } = *state;
+    let (tol, len, k_t, band) = (sc.tol, sc.len, sc.k_t, sc.band);
+    let mut fsal: Option<[f64; 4]> = None;
+    // The end of a step retaken to end on an event, and whether the event is a reversal
+    // (else Dupont's breakaway, where the deformation turns plastic).
+    let mut event_target: Option<f64> = None;
+    let mut reversal = false;
+    let mut rejected = false;
     while t < t_target {
         attempts::within_limit(stats, limit, t)?;
         let s0 = s;
@@ -291,9 +345,7 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
         };
         attempts::finite_start(&k1, t)?;
         if h <= 0.0 {
-            let d = ((k1[0] / nom_s).powi(2) + (k1[1] / nom_x).powi(2) + (k1[2] / nom_v).powi(2))
-                .sqrt();
-            h = first_step(d, tol, h_max);
+            h = sc.first_step(&k1, h_max);
         }
         let mut hh = h.min(h_max);
         if event_target.is_none() {
@@ -327,7 +379,7 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
         let vr_rate_end = || (step.k[6][0] - step.k[4][0]) / ((1.0 - C[4]) * hh);
         // Short of the call's end the deformation's error counts by what it leaves.
         let ahead = (!last && tol <= WEIGH_UP_TO).then(|| (t_target - (t + hh), vr_rate_end()));
-        let err = scales.error(&step, &u1, &branch, [s0, x, v, s_at[6]], sigma, ahead);
+        let err = sc.error(&step, &u1, &branch, [s0, x, v, s_at[6]], sigma, ahead);
         let err = attempts::finite_error(err, &u1);
         if err > 1.0 {
             h = attempts::rejected(stats, hh, err);
@@ -336,37 +388,36 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
             fsal = Some(k1);
             continue;
         }
-        // An event inside the step: retake the step to end on it.
+        // An event inside the step: retake the step to end on it (a reversal at the step's end
+        // is there).
         if event_target.is_none() {
-            match event_in(&step, &vs_at, &vs, &branch, band, t, hh) {
-                Some(Event::AtStart) => {
-                    // The reversal is at the step's start: the other branch from here. The
-                    // attempt counts as rejected, so the work limit bounds any repetition.
-                    fsal = Some(k1);
-                    sigma = -sigma;
-                    stats.events += 1;
-                    stats.rejected += 1;
-                    continue;
-                }
-                Some(Event::Reversal(theta)) => {
-                    fsal = Some(k1);
-                    reversal = true;
-                    if theta < 1.0 {
-                        event_target = Some(t + theta * hh);
-                        h = hh;
+            if let Some(event) = event_in(&step, &vs_at, vs, &branch, band, t, hh) {
+                fsal = Some(k1);
+                let theta = match event {
+                    Event::AtStart => {
+                        // The reversal is at the step's start: the other branch from here.
+                        // The attempt counts as rejected, so the work limit bounds any
+                        // repetition.
+                        sigma = -sigma;
+                        stats.events += 1;
+                        stats.rejected += 1;
                         continue;
                     }
-                    // At the step's end: the reversal is there.
-                    event_target = Some(t + hh);
-                }
-                Some(Event::Breakaway(theta)) => {
-                    reversal = false;
+                    Event::Reversal(theta) => {
+                        reversal = true;
+                        theta
+                    }
+                    Event::Breakaway(theta) => {
+                        reversal = false;
+                        theta
+                    }
+                };
+                if theta < 1.0 || !reversal {
                     event_target = Some(t + theta * hh);
                     h = hh;
-                    fsal = Some(k1);
                     continue;
                 }
-                None => {}
+                event_target = Some(t + hh);
             }
         }
         stats.steps += 1;
@@ -380,43 +431,66 @@ fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
             s = len.copysign(s);
             fsal = None;
         }
-        let mut h_new = hh * factor(err);
-        if rejected {
-            h_new = h_new.min(hh);
-        }
-        rejected = false;
-        if event_target.is_some() && !reversal {
-            // Just past the breakaway: on along the same branch, with no longer a step than
-            // was proposed before it (the plastic part bends at once).
-            event_target = None;
-            h_new = h_new.min(h);
-        } else if event_target.is_some() {
-            // The reversal: the other branch from here; the step that ended on it was
-            // clipped and says little about the step size.
+        // The event the step ended on: a reversal (the other branch from here) or the
+        // breakaway.
+        let ended_on = event_target.take().map(|_| reversal);
+        if ended_on == Some(true) {
             sigma = -sigma;
             stats.events += 1;
-            event_target = None;
+        }
+        let relax_first = || RELAX_FIRST * (2.0 * len / vr_rate_end().abs()).sqrt();
+        h = size_after(hh, h, err, rejected, ended_on, last, relax_first);
+        rejected = false;
+    }
+    *state = Walk {
+        t,
+        s,
+        x,
+        v,
+        sigma,
+        h,
+        integral,
+    };
+    Ok(())
+}
+
+/// The size proposed after an accepted step of length `hh` (`h` proposed before it) with the
+/// scaled error `err`, `rejected` whether an attempt before it was, `ended_on` the event it
+/// ended on (a reversal: `true`; the breakaway: `false`), `last` whether it ended the call,
+/// `relax_first` the first step's share of the new branch's relaxation.
+#[inline(always)]
+fn size_after(
+    hh: f64,
+    h: f64,
+    err: f64,
+    rejected: bool,
+    ended_on: Option<bool>,
+    last: bool,
+    relax_first: impl FnOnce() -> f64,
+) -> f64 {
+    let mut h_new = hh * factor(err);
+    if rejected {
+        h_new = h_new.min(hh);
+    }
+    match ended_on {
+        // Just past the breakaway: on along the same branch, with no longer a step than
+        // was proposed before it (the plastic part bends at once).
+        Some(false) => h_new = h_new.min(h),
+        // The reversal: the step that ended on it was clipped and says little about the
+        // step size. The new branch relaxes over one s_ss of relative displacement, which
+        // from rest takes sqrt(2·s_ss/|dv_r/dt|): the first step a fraction of that (a stiff
+        // contact would otherwise pay for it in rejected steps).
+        Some(true) => {
             h_new = h_new.max(h);
-            // The new branch relaxes over one s_ss of relative displacement, which from
-            // rest takes sqrt(2·s_ss/|dv_r/dt|): the first step a fraction of that (a
-            // stiff contact would otherwise pay for it in rejected steps).
-            let relax = RELAX_FIRST * (2.0 * len / vr_rate_end().abs()).sqrt();
+            let relax = relax_first();
             if relax.is_finite() && relax > 0.0 {
                 h_new = h_new.min(relax);
             }
-        } else if last && hh < h {
-            h_new = h_new.max(h);
         }
-        h = h_new;
+        None if last && hh < h => h_new = h_new.max(h),
+        None => {}
     }
-    let mut y = r.y;
-    y[0] = s;
-    y[ix] = x;
-    y[iv] = v;
-    c.finish(r, t_target, y);
-    k.h = h;
-    k.explicit.direction = sigma;
-    Ok([integral, 0.0])
+    h_new
 }
 
 /// A step's length `hh` cut a little past the next event where it heads for one at the relative
@@ -446,13 +520,51 @@ fn short_of_events(hh: f64, u: f64, w: f64, branch: &Branch, len: f64) -> f64 {
 /// `k_t`, `1/m` and `s_ss`.
 struct Scales {
     nom: [f64; 3],
+    tol: f64,
     rtol: f64,
     k_t: f64,
     inv_m: f64,
     len: f64,
+    /// How far `σ·v_r` falls below 0 before a reversal counts (the module's docs).
+    band: f64,
 }
 
 impl Scales {
+    /// For the contact `c` at the tolerance `tol` on the branches of `relax`, `plastic` with
+    /// Dupont's breakaway.
+    fn new<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
+        c: &Shared<'_, V, L, D, N>,
+        tol: f64,
+        relax: Relaxation,
+        plastic: bool,
+    ) -> Self {
+        let (len, k_t) = (relax.length, relax.stiffness);
+        let inv_m = 1.0 / c.params.m;
+        let fraction = if plastic {
+            DUPONT_TOL_FRACTION
+        } else {
+            TOL_FRACTION
+        };
+        let band = 0.05 * tol * len * (k_t * inv_m).sqrt();
+        Scales {
+            nom: [c.scale[0], c.scale[V::DIM], c.scale[2 * V::DIM]],
+            tol,
+            rtol: (fraction * tol).max(1e-14),
+            k_t,
+            inv_m,
+            len,
+            band: if band.is_finite() { band } else { 0.0 },
+        }
+    }
+
+    /// The first step's size from the first stage `k1`, at most `h_max`.
+    fn first_step(&self, k1: &[f64; 4], h_max: f64) -> f64 {
+        let [nom_s, nom_x, nom_v] = self.nom;
+        let d =
+            ((k1[0] / nom_s).powi(2) + (k1[1] / nom_x).powi(2) + (k1[2] / nom_v).powi(2)).sqrt();
+        first_step(d, self.tol, h_max)
+    }
+
     /// The scaled error of a step on `branch` from `[s0, x, v]` to the end `s1` (the
     /// deformation) on the branch `sigma`; `ahead`, where the step ends short of its call's
     /// end (by the time given, with `dv_r/dt` at the step's end), weighs the deformation's

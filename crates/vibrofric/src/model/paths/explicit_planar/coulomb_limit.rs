@@ -455,7 +455,10 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
             weight: 1.0 + st.damping * r / (st.k_t * st.g),
         })
     }
+}
 
+/// The manifold's steps: where one starts, and the step of the body alone on it.
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'_, '_, V, L, D> {
     /// The manifold at the start of a step from `(t, u)` where the state's deformation is on
     /// it (within the tolerance's fraction [`START_FRACTION`]) and the expansion converges
     /// there; `None` where not (the caller then takes its other steps). With the longest step
