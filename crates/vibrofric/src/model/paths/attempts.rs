@@ -1,4 +1,4 @@
-//! What the explicit paths' loops of Dormand–Prince attempts share (`explicit.rs`,
+//! What the explicit paths' loops of Dormand–Prince attempts share (`explicit/`,
 //! `explicit_planar/steps.rs`): the work limit, the checks of an attempt's start and size,
 //! its error made infinite where anything is not finite, and a rejected attempt's next size.
 

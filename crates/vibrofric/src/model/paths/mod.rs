@@ -7,7 +7,7 @@
 //!                        paths/mod.rs: choose() ── the table of docs/model.md
 //!        ┌──────────────┬──────────────┼───────────────┬──────────────────┐
 //!        ▼              ▼              ▼               ▼                  ▼
-//!   exact.rs     exponential.rs   explicit.rs   explicit_planar/     radau.rs
+//!   exact.rs     exponential.rs   explicit/     explicit_planar/     radau.rs
 //!  closed form   (solver/expint)  (+ elastic)   (+ coulomb_limit)   (solver/radau)
 //!                                      └──── stage_support.rs ──┘
 //! ```

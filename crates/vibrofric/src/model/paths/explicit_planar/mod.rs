@@ -1,8 +1,8 @@
 //! The explicit path of a moving body on a planar Dahl contact (`kappa = 1`): force or spring
 //! drive, or a velocity drive with the lateral motion free, whenever the motion leaves the x
-//! axis (on the axis the closed form of `explicit.rs` applies); on a planar LuGre contact,
+//! axis (on the axis the closed form of `explicit/` applies); on a planar LuGre contact,
 //! on the axis or off it, or in longitudinal motion; and on a planar Dupont contact off the
-//! axis (or on it with the lateral motion free, which `explicit.rs` does not take) at a
+//! axis (or on it with the lateral motion free, which `explicit/` does not take) at a
 //! moderate stiffness ([`DUPONT_LIMIT`]), whose weight `alpha(s)` leaves its rate
 //! without the form below: its plastic relaxation is one more component of the explicit
 //! method, and its direction test `s·v_r > 0`, which switches that relaxation on and off (a
@@ -12,7 +12,7 @@
 //! `s_ss` is constant: `λ = ∫|v_r|/g dt` and `q` take that `g`, and the force (with its
 //! damping `h_t·ds/dt`) follows from the deformation at each stage as in the general model.
 //! A force- or spring-driven body whose motion stays on the x axis (no lateral deformation,
-//! velocity or support motion: LuGre, since Dahl there takes `explicit.rs`) is integrated in
+//! velocity or support motion: LuGre, since Dahl there takes `explicit/`) is integrated in
 //! one dimension, `[s, x, v]` with `∫F_Fx dt` and λ, by the same code ([`steps`], generic in
 //! the vector type and the widths); its lateral components stay 0 as the planar equations keep
 //! them (the results were those of the planar integration to the last bit on
@@ -202,7 +202,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
             return false;
         }
         let law = &c.dynamics.law;
-        // Dupont off the x axis (on it, `explicit.rs`'s branches): its weight `alpha` depends
+        // Dupont off the x axis (on it, `explicit/`'s branches): its weight `alpha` depends
         // on `s`, so its plastic relaxation `|v_r|/s_ss` has no exponential form here and the
         // explicit method integrates it, while that rate (at the relative velocity now and
         // the support's velocity amplitude beyond it) and the stuck body's oscillation stay
@@ -222,7 +222,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
         // contact damping `c` (LuGre), `c/m` where that is faster.
         let rate = match law.relaxation() {
             // A Dahl contact whose force- or spring-driven motion stays on the x axis is
-            // `explicit.rs`'s, or Radau's where that declines it (a stiff contact the
+            // `explicit/`'s, or Radau's where that declines it (a stiff contact the
             // vibration does not keep sliding).
             Some(_) if c.dynamics.drive.axial().is_some() && c.on_x_axis(&r.y) => {
                 return false;
@@ -265,7 +265,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
 
     /// Advances the planar explicit path to `t_target`: `∫F_F dt` over the call. A force- or
     /// spring-driven body whose motion stays on the x axis ([`Shared::on_x_axis`]: LuGre,
-    /// since Dahl there takes `explicit.rs`) is integrated in one dimension, its lateral
+    /// since Dahl there takes `explicit/`) is integrated in one dimension, its lateral
     /// deformation, position and velocity left at 0 (nothing moves them): the same steps on
     /// a vector of 5 components instead of 9, about a quarter less time per step; so is a
     /// contact in longitudinal motion, on its own state (the same steps to the last bit:
