@@ -23,7 +23,7 @@ fn run(params: Params, tol: f64, path: Integrator, step: f64) -> (f64, f64, Step
     let n = (1.0 / step).round() as usize;
     for _ in 0..5 {
         let start = Instant::now();
-        let mut sim = build_on(config, params, 0.0, tol, path).unwrap();
+        let mut sim = build_on(config, params, 0.0, tol, path == Integrator::Radau).unwrap();
         sim.set_input(InputId::VD, 1e-3).unwrap();
         for k in 1..=n {
             sim.step_to(k as f64 * step).unwrap();

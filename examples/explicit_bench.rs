@@ -44,7 +44,7 @@ fn run(
             .inputs(scene.inputs)
             .tolerance(tol);
         let mut sim = match path {
-            Some(p) => setup.on(p),
+            Some(p) => setup.force_radau(p == Integrator::Radau),
             None => setup,
         }
         .build()

@@ -24,7 +24,7 @@ fn run(scene: &Scene, path: Integrator, tol: f64, ramp: bool) -> (Vec<Outputs>, 
     let mut sim = Setup::new(scene.config, scene.start)
         .inputs(scene.inputs)
         .tolerance(tol)
-        .on(path)
+        .force_radau(path == Integrator::Radau)
         .build()
         .unwrap();
     let drive = [InputId::VD, InputId::FD]
@@ -506,7 +506,7 @@ fn a_stuck_dupont_body_rings_in_closed_form() {
             Setup::new(scene.config, scene.start)
                 .inputs(scene.inputs)
                 .tolerance(tol)
-                .on(path)
+                .force_radau(path == Integrator::Radau)
                 .build()
                 .unwrap()
         };
@@ -585,7 +585,7 @@ fn run_at_stiffness(
     let mut sim = Setup::new(scene.config, p)
         .inputs(scene.inputs)
         .tolerance(tol)
-        .on(path)
+        .force_radau(path == Integrator::Radau)
         .build()
         .unwrap();
     let mut out = vec![];

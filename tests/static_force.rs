@@ -92,7 +92,7 @@ fn an_input_load_and_a_parameter_load_agree() {
     let on_radau = |s: &Scene, p| {
         let mut sim = Setup::new(s.config, p)
             .tolerance(TOL)
-            .on(Integrator::Radau)
+            .force_radau(true)
             .build()
             .unwrap();
         sim.set_input(InputId::FD, s.inputs.f_d).unwrap();

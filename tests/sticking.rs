@@ -236,7 +236,7 @@ fn dahl_body_on_the_explicit_path_held_released_held_at_every_communication_step
         }
     }
     // The same run on Radau at a tight tolerance.
-    let mut radau = build_on(config, p, 0.0, 1e-10, Integrator::Radau).unwrap();
+    let mut radau = build_on(config, p, 0.0, 1e-10, true).unwrap();
     let mut reference = vec![];
     for k in 0..6 {
         radau.set_input(InputId::FD, f_d(k as f64 * 0.5)).unwrap();

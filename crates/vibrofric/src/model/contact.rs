@@ -9,26 +9,34 @@
 // Jacobian assembly indexes rows and columns of several matrices in lockstep.
 #![allow(clippy::needless_range_loop)]
 
-use std::sync::{Arc, OnceLock};
-
 use nalgebra::SVector;
 
 use super::drive::DriveKind;
-use super::dynamics::{lift_off, Dynamics, Eval, Relaxation1, System};
-use super::exact;
+use super::dynamics::{lift_off, Dynamics, Eval, System};
 use super::ode::{ContactOde, Ode};
+use super::paths::{self, Kept, Shared};
 use super::simulator::{Integrator, SimError, Simulator, StepStats};
 use super::state::ContactState;
 use super::time::{boundary_snap, canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{affine_sums, StepMean, Window};
-use crate::physics::{
-    ElastoPlastic, FrictionLaw, Harmonic, InputTrack, Relaxation, Vector, NO_FRICTION_LENGTH,
-};
-use crate::solver::expint::ExpIntegrator;
-use crate::solver::{
-    OdeSystem, Quad, Radau5, SolverError, SolverStats, Step, Workspace, MAX_QUAD, MAX_SWITCH,
-};
+use crate::physics::{FrictionLaw, Harmonic, InputTrack, Vector, NO_FRICTION_LENGTH};
+use crate::solver::{OdeSystem, Quad, Radau5, SolverError, SolverStats, MAX_QUAD, MAX_SWITCH};
 use crate::table::{Config, InputId, Inputs, OutputId, Outputs, ParamId, Params};
+
+/// What every path reads of a contact ([`Shared`]), from its fields.
+macro_rules! shared {
+    ($c:expr) => {
+        Shared {
+            config: $c.config,
+            params: &$c.params,
+            dynamics: &$c.dynamics,
+            scale: &$c.scale,
+            force_scale: $c.force_scale,
+            switch_scale: $c.switch_scale,
+            window_len: $c.window.len,
+        }
+    };
+}
 
 /// A contact with its integrator: implements [`Simulator`].
 #[derive(Clone, Debug)]
@@ -42,19 +50,11 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     pub(super) force_scale: f64,
     /// Natural magnitudes of the switching functions `v_rx` and `s·v_r`.
     pub(super) switch_scale: [f64; MAX_SWITCH],
+    /// The integrated state (time, state vector, work counters, tolerance, work limit) with
+    /// Radau's own history.
     pub(super) radau: Radau5<N>,
-    /// Radau even where the closed form applies (tests and benchmarks of the fast path).
-    pub(super) radau_only: bool,
-    /// The exponential or explicit integrator's proposed step (0: none yet).
-    pub(super) exp_h: f64,
-    /// The explicit path's branch: the sign of `v_r` since its last located change (0: not
-    /// yet known).
-    pub(super) direction: f64,
-    /// Dupont's deformation along a branch for this contact's breakaway ratio, fitted on first
-    /// use (`explicit.rs`; none where the law has no breakaway or the fit does not converge).
-    pub(super) elastoplastic: OnceLock<Option<Arc<ElastoPlastic>>>,
-    /// The integrator's scratch matrices, kept across communication steps.
-    pub(super) work: Workspace,
+    /// What the paths keep between calls (`paths/`).
+    pub(super) paths: Kept,
     pub(super) window: Window,
     pub(super) step: StepMean,
     /// The start time: every time inside the contact (integrator, input tracks, harmonic
@@ -74,11 +74,11 @@ pub fn boxed<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     params: Params,
     t_start: f64,
     tolerance: f64,
-    path: Integrator,
+    force_radau: bool,
 ) -> Box<dyn Simulator> {
     assert_eq!(N, V::DIM + D::N_BODY, "state dimension of {config:?}");
     let mut c = Contact::<V, L, D, N>::new(config, params, t_start, tolerance);
-    c.radau_only = path == Integrator::Radau;
+    c.paths.force_radau = force_radau;
     Box::new(c)
 }
 
@@ -123,11 +123,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             force_scale: 0.0,
             switch_scale: [0.0; MAX_SWITCH],
             radau: Radau5::new(t_start, SVector::zeros(), tolerance),
-            radau_only: false,
-            exp_h: 0.0,
-            direction: 0.0,
-            elastoplastic: OnceLock::new(),
-            work: Workspace::new(N),
+            paths: Kept::new(N),
             window: Window {
                 origin: t_start,
                 len: 0.0,
@@ -188,14 +184,24 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             .scale(x_nom, v_nom, &mut self.scale[V::DIM..]);
     }
 
+    /// What every path reads of the contact.
+    pub(super) fn shared(&self) -> Shared<'_, V, L, D, N> {
+        shared!(self)
+    }
+
+    /// What every path reads of the contact, with the state and what the paths keep, for a
+    /// path to advance.
+    fn lend(&mut self) -> (Shared<'_, V, L, D, N>, &mut Radau5<N>, &mut Kept) {
+        (shared!(self), &mut self.radau, &mut self.paths)
+    }
+
     pub(super) fn system(&self) -> System<'_, V, L, D> {
-        System::new(
-            &self.dynamics,
-            self.config.input_support,
-            &self.scale,
-            self.force_scale,
-            self.switch_scale,
-        )
+        self.shared().system()
+    }
+
+    /// The path the contact takes now (`paths::choose`).
+    fn path(&self) -> Integrator {
+        paths::choose(&self.shared(), &self.radau, &self.paths)
     }
 
     /// Longest step that cannot hide a pair of sign changes of `v_r` from the harmonic source.
@@ -218,113 +224,13 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         Ok(id.index())
     }
 
-    /// The closed-form path's relaxation, where this contact takes it: a longitudinal velocity
-    /// drive (no body state) with a law that relaxes in the relative displacement (Dahl).
-    fn exact_path(&self) -> Option<Relaxation> {
-        if V::DIM == 1 && D::N_BODY == 0 && !self.radau_only && self.dynamics.load.is_none() {
-            self.dynamics.law.relaxation()
-        } else {
-            None
-        }
-    }
-
-    /// True when this contact takes the exponential integrator: a velocity drive with the
-    /// lateral motion guided (no body state) and a law linear in `s`, where the closed form
-    /// does not apply.
-    fn exp_path(&self) -> bool {
-        D::N_BODY == 0
-            && !self.radau_only
-            && self.dynamics.load.is_none()
-            && self.exact_path().is_none()
-            && self.dynamics.law.linear(V::from_xy(1.0, 0.0)).is_some()
-    }
-
-    /// Advances the exponential integrator to `t_target`, steps ending on every sign change of
-    /// `v_rx` (a kink of `|v_r|` where `v_ry` vanishes too); returns `∫ a dt` (the decay) and
-    /// `∫F_F dt`.
-    fn advance_exp(&mut self, t_target: f64, h_max: f64) -> Result<(f64, Quad), SimError> {
-        let t0 = self.radau.t;
-        let forcing = self.dynamics.forcing_x(t0, self.config.input_support);
-        let mut knots = [0.0f64; 8];
-        let mut n = 0;
-        exact::sign_changes(&forcing, t_target - t0, |r| {
-            if n < knots.len() {
-                knots[n] = t0 + r;
-                n += 1;
-            }
-        });
-        let sys = Relaxation1 {
-            dynamics: &self.dynamics,
-            input_support: self.config.input_support,
-        };
-        let mut ei = ExpIntegrator::new(self.radau.tolerance());
-        ei.h = self.exp_h;
-        let mut s = [0.0; 2];
-        s[..V::DIM].copy_from_slice(&self.radau.y.as_slice()[..V::DIM]);
-        let s_scale = self.scale[0];
-        let mut integral = [0.0; MAX_QUAD];
-        let mut a = t0;
-        for &b in knots[..n].iter().chain(std::iter::once(&t_target)) {
-            if b > a {
-                let i = ei
-                    .integrate(&sys, a, b, &mut s, s_scale, self.force_scale, h_max)
-                    .map_err(SimError::Solver)?;
-                integral[0] += i[0];
-                integral[1] += i[1];
-                a = b;
-            }
-        }
-        let mut y = self.radau.y;
-        y.as_mut_slice()[..V::DIM].copy_from_slice(&s[..V::DIM]);
-        OdeSystem::<N>::project(&self.system(), t_target, &mut y);
-        self.radau.y = y;
-        self.radau.t = t_target;
-        self.radau.restart();
-        self.propose(ei.h);
-        let st = &mut self.radau.stats;
-        st.steps += ei.steps;
-        st.rejected += ei.rejected;
-        st.rhs_evals += ei.evals;
-        st.events += n as u64;
-        Ok((ei.decay, integral))
-    }
-
-    /// Advances the closed-form path to `t_target`; returns `exp(−decay)`'s exponent and
-    /// `∫F_F dt` over the call (longitudinal: `F_Fy` = 0).
-    fn advance_exact(&mut self, relax: Relaxation, t_target: f64) -> (f64, Quad) {
-        let t0 = self.radau.t;
-        let forcing = self.dynamics.forcing_x(t0, self.config.input_support);
-        let a = exact::advance(
-            &forcing,
-            relax,
-            self.radau.y[0],
-            t_target - t0,
-            self.radau.tolerance(),
-        );
-        self.radau.t = t_target;
-        self.radau.y[0] = a.s;
-        self.radau.restart();
-        let st = &mut self.radau.stats;
-        st.steps += a.segments;
-        st.events += a.roots;
-        st.rhs_evals += a.evals;
-        (a.decay, [relax.stiffness * a.integral_s, 0.0])
-    }
-
     /// True when no input has a derivative set: the forcing is then periodic in the window.
     fn inputs_held(&self) -> bool {
         self.dynamics.tracks.iter().all(|t| t.slope == 0.0)
     }
 
-    /// True when the map of one window is affine in `s` with a scalar decay, `s ↦ exp(−L)·s +
-    /// beta`, for held inputs: the deformation's rate is linear in `s` and nothing else is
-    /// integrated (the closed form with `kappa = 1`, the exponential path).
-    fn windows_affine(&self) -> bool {
-        self.exact_path().is_some_and(|r| r.exponent == 1.0) || self.exp_path()
-    }
-
     /// Skips `m` whole windows from the start of the current one in O(1), on a path where the
-    /// map of a window is affine ([`Contact::windows_affine`]) and the inputs held, so that the
+    /// map of a window is affine ([`paths::windows_affine`]) and the inputs held, so that the
     /// forcing is periodic in the window: `m` maps compose in closed form. The first window is
     /// integrated to learn `L` and `beta`; the windows skipped leave no mean.
     fn skip_windows(&mut self, m: u64, h_max: f64) -> Result<(), SimError> {
@@ -332,14 +238,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         let t_b = self.window.end();
         // The window's integral is affine in its initial deformation too, `I(s) = I_p + G·s`
         // with a scalar `G = ∫ ∂F/∂s·exp(−Λ(t)) dt`: a second run from `s0 + δ·e_x` gives `G`.
-        let before = (self.radau, self.exp_h);
+        let before = (self.radau, self.paths.h);
         let delta = self.scale[0];
         let mut y = self.radau.y;
         y[0] += delta;
         self.radau.y = y;
         let probe = self.advance_window(t_b, h_max)?.1;
         let probe_stats = self.radau.stats;
-        (self.radau, self.exp_h) = before;
+        (self.radau, self.paths.h) = before;
         self.radau.stats = probe_stats;
         let (decay, integral) = self.advance_window(t_b, h_max)?;
         let g = (probe[0] - integral[0]) / delta;
@@ -372,52 +278,97 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         Ok(())
     }
 
-    /// Advances a fast path (closed form or exponential) to `t_target`: the decay and `∫F_F dt`.
+    /// Advances a path whose map of a window is affine to `t_target`: the decay and `∫F_F dt`.
     fn advance_window(&mut self, t_target: f64, h_max: f64) -> Result<(f64, Quad), SimError> {
-        match self.exact_path() {
-            Some(relax) => Ok(self.advance_exact(relax, t_target)),
-            None => self.advance_exp(t_target, h_max),
-        }
+        let (shared, radau, kept) = self.lend();
+        paths::advance_affine(&shared, radau, kept, t_target, h_max)
     }
 
-    /// Integrates to `t_target` (≤ the current window's end), accumulating `∫F_F dt` in the
-    /// window and the communication step.
+    /// Integrates to `t_target` (≤ the current window's end) on the path the contact takes
+    /// now, accumulating `∫F_F dt` in the window and the communication step.
     fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
-        let fast = self.exact_path().is_some() || self.exp_path();
-        let explicit = !fast && self.explicit_path();
-        if fast || explicit || self.planar_explicit_path() {
-            let integral = if fast {
-                self.advance_window(t_target, h_max)?.1
-            } else if explicit {
-                self.advance_explicit(t_target, h_max)?
-            } else {
-                self.advance_planar(t_target, h_max)?
-            };
-            self.window.acc += integral[0];
-            self.step.acc[0] += integral[0];
-            self.step.acc[1] += integral[1];
-            return Ok(());
-        }
-        let dynamics = self.dynamics;
-        let scale = self.scale;
-        let sys = System::new(
-            &dynamics,
-            self.config.input_support,
-            &scale,
-            self.force_scale,
-            self.switch_scale,
-        );
-        let mut acc = [0.0; MAX_QUAD];
-        self.radau
-            .integrate_with(&mut self.work, &sys, t_target, h_max, |step: &Step<N>| {
-                acc[0] += step.quad[0];
-                acc[1] += step.quad[1];
-            })
-            .map_err(SimError::Solver)?;
-        self.window.acc += acc[0];
-        self.step.acc[0] += acc[0];
-        self.step.acc[1] += acc[1];
+        let path = self.path();
+        let (shared, radau, kept) = self.lend();
+        let integral = paths::advance(path, &shared, radau, kept, t_target, h_max)?;
+        self.window.acc += integral[0];
+        self.step.acc[0] += integral[0];
+        self.step.acc[1] += integral[1];
         Ok(())
+    }
+
+    /// Steps window by window to `t_end` (a communication point within `snap` of a window's
+    /// end completes the window), within `limit` attempts in the work counters: many whole
+    /// windows with the forcing periodic skipped, each window's mean and the step's integrals
+    /// accumulated, the body lifted or put down at the load's events.
+    fn windows_to(
+        &mut self,
+        t_end: f64,
+        snap: f64,
+        h_max: f64,
+        limit: u64,
+    ) -> Result<(), SimError> {
+        while self.radau.t < t_end {
+            let st = &self.radau.stats;
+            if st.steps + st.rejected >= limit {
+                return Err(SimError::Solver(SolverError::WorkLimit {
+                    t: self.radau.t,
+                    limit: self.params.max_steps,
+                }));
+            }
+            // Many whole windows ahead with the forcing periodic: skip all but the last
+            // (whose mean is the output) in O(1).
+            let whole = ((t_end - self.radau.t) / self.window.len).floor();
+            if whole >= 3.0
+                && self.radau.t == self.window.start()
+                && self.inputs_held()
+                && paths::windows_affine(&self.shared(), &self.radau, &self.paths)
+            {
+                self.skip_windows(whole as u64 - 1, h_max)?;
+                continue;
+            }
+            let mut t_b = self.window.end();
+            if (t_b - t_end).abs() <= snap {
+                // A communication point on a window boundary completes the window,
+                // whichever side of it the importer's rounding put the point.
+                t_b = t_end;
+            }
+            let mut target = t_b.min(t_end);
+            let load_event = self.dynamics.load_event(self.radau.t, target);
+            if let Some(t_event) = load_event {
+                target = t_event;
+            }
+            self.integrate(target, h_max)?;
+            if load_event.is_some() {
+                self.dynamics.lifted = !self.dynamics.lifted;
+                self.clear_deformation_if_lifted();
+                self.radau.restart();
+            }
+            if target == t_b {
+                self.window.last = Some(self.window.acc / self.window.len);
+                self.window.acc = 0.0;
+                self.window.index += 1;
+            }
+        }
+        Ok(())
+    }
+
+    /// Input derivatives are valid for one step: holds the inputs from the time now on.
+    fn hold_inputs(&mut self) {
+        let t = self.radau.t;
+        for (k, track) in self.dynamics.tracks.iter_mut().enumerate() {
+            if track.slope != 0.0 {
+                if k == 1 {
+                    self.dynamics.x_kin_ref += track.integral(t);
+                    track.t_ref = t;
+                }
+                track.slope = 0.0;
+                self.radau.restart();
+            }
+        }
+        // Keep x_kin anchored near the current time for precision.
+        let vd = &mut self.dynamics.tracks[InputId::VD.index()];
+        self.dynamics.x_kin_ref += vd.integral(t);
+        vd.t_ref = t;
     }
 
     pub(super) fn f_mean(&self) -> f64 {
@@ -581,7 +532,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let saved = (
             self.radau,
             self.window,
-            (self.exp_h, self.direction),
+            self.paths.save(),
             self.step,
             self.dynamics.lifted,
         );
@@ -604,47 +555,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         if (t_end - t0) / self.window.len > WINDOWS_MAX {
             return Err(over_limit(t0));
         }
-        let result = (|| {
-            while self.radau.t < t_end {
-                if work(&self.radau.stats) >= limit {
-                    return Err(over_limit(self.radau.t));
-                }
-                // Many whole windows ahead with the forcing periodic: skip all but the last
-                // (whose mean is the output) in O(1).
-                let whole = ((t_end - self.radau.t) / self.window.len).floor();
-                if whole >= 3.0
-                    && self.radau.t == self.window.start()
-                    && self.inputs_held()
-                    && self.windows_affine()
-                {
-                    self.skip_windows(whole as u64 - 1, h_max)?;
-                    continue;
-                }
-                let mut t_b = self.window.end();
-                if (t_b - t_end).abs() <= snap {
-                    // A communication point on a window boundary completes the window,
-                    // whichever side of it the importer's rounding put the point.
-                    t_b = t_end;
-                }
-                let mut target = t_b.min(t_end);
-                let load_event = self.dynamics.load_event(self.radau.t, target);
-                if let Some(t_event) = load_event {
-                    target = t_event;
-                }
-                self.integrate(target, h_max)?;
-                if load_event.is_some() {
-                    self.dynamics.lifted = !self.dynamics.lifted;
-                    self.clear_deformation_if_lifted();
-                    self.radau.restart();
-                }
-                if target == t_b {
-                    self.window.last = Some(self.window.acc / self.window.len);
-                    self.window.acc = 0.0;
-                    self.window.index += 1;
-                }
-            }
-            Ok(())
-        })();
+        let result = self.windows_to(t_end, snap, h_max, limit);
         // fmi2OK never comes with a non-finite output.
         let result = result.and_then(|_| {
             let o = self.outputs();
@@ -661,13 +572,15 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
                 SimError::Solver(SolverError::WorkLimit { t, .. }) => over_limit(t),
                 e => e,
             };
+            let kept;
             (
                 self.radau,
                 self.window,
-                (self.exp_h, self.direction),
+                kept,
                 self.step,
                 self.dynamics.lifted,
             ) = saved;
+            self.paths.restore(kept);
             return Err(e);
         }
         self.t_abs = t_end_abs;
@@ -675,22 +588,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         self.step.last = Some(self.step.acc.map(|a| a / h));
         self.step.h = h;
         self.step.f_start = [f_start.x(), f_start.y()];
-        // Input derivatives are valid for one step: hold the inputs from here on.
-        let t = self.radau.t;
-        for (k, track) in self.dynamics.tracks.iter_mut().enumerate() {
-            if track.slope != 0.0 {
-                if k == 1 {
-                    self.dynamics.x_kin_ref += track.integral(t);
-                    track.t_ref = t;
-                }
-                track.slope = 0.0;
-                self.radau.restart();
-            }
-        }
-        // Keep x_kin anchored near the current time for precision.
-        let vd = &mut self.dynamics.tracks[InputId::VD.index()];
-        self.dynamics.x_kin_ref += vd.integral(t);
-        vd.t_ref = t;
+        self.hold_inputs();
         Ok(())
     }
 
@@ -774,17 +672,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     }
 
     fn integrator(&self) -> Integrator {
-        if self.exact_path().is_some() {
-            Integrator::ClosedForm
-        } else if self.exp_path() {
-            Integrator::Exponential
-        } else if self.explicit_path() {
-            Integrator::Explicit
-        } else if self.planar_explicit_path() {
-            Integrator::ExplicitPlanar
-        } else {
-            Integrator::Radau
-        }
+        self.path()
     }
 
     fn snapshot(&self) -> ContactState {

@@ -9,7 +9,6 @@
 use nalgebra::{SMatrix, SVector};
 
 use super::drive::{DriveInputs, DriveKind, Jac};
-use super::exact::Forcing;
 use crate::physics::{FrictionLaw, Harmonic, InputTrack, Vector};
 use crate::solver::expint::{Relaxing, Sample};
 use crate::solver::{OdeSystem, Quad, MAX_DIM, MAX_SWITCH};
@@ -172,31 +171,6 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Dynamics<V, L, D> {
                 );
         }
         vs
-    }
-
-    /// The relative velocity along x of a velocity drive from `t` on, for the closed-form path:
-    /// the affine input tracks and the harmonic source's x component.
-    pub(super) fn forcing_x(&self, t: f64, input_support: bool) -> Forcing {
-        let (vd, vsx) = (
-            &self.tracks[InputId::VD.index()],
-            &self.tracks[InputId::VSx.index()],
-        );
-        let (mut b0, mut b1) = (vd.at(t), vd.slope);
-        if input_support {
-            b0 -= vsx.at(t);
-            b1 -= vsx.slope;
-        }
-        let (amp, omega, theta0) = match &self.harmonic {
-            Some(h) => (h.v_a() * h.dir.0, std::f64::consts::TAU * h.f, h.theta(t)),
-            None => (0.0, 0.0, 0.0),
-        };
-        Forcing {
-            b0,
-            b1,
-            amp,
-            omega,
-            theta0,
-        }
     }
 
     /// Everything at `(t, y)`, given the support velocity `vs` at `t`.

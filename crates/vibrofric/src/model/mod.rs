@@ -9,34 +9,28 @@
 //! - `drive.rs`: how the body is moved (force, velocity, spring drive) and its equations;
 //! - `dynamics.rs`: the right-hand side and its Jacobian: deformation rate of the law, body,
 //!   normal load and lift-off, the relative velocity from the sources;
-//! - `contact.rs`: the contact the simulator steps: integrator choice, communication steps,
+//! - `contact.rs`: the contact the simulator steps: communication steps, averaging windows,
 //!   outputs;
+//! - `paths/`: the ways a contact is advanced, one room each (the closed form, the exponential
+//!   path, the explicit path, the planar explicit path with its steps on the Coulomb limit,
+//!   Radau IIA), behind one interface, and the one choice between them (`paths/mod.rs`);
 //! - `state.rs`, `snapshot.rs`: the contact's complete state by name; taking it and restoring
 //!   it with every field checked;
 //! - `window.rs`: the running means (`F_mean` over averaging windows, the step means);
 //! - `time.rs`: communication points as importers compute them, and time limits;
-//! - `exact.rs`: the closed-form path (longitudinal Dahl under velocity drive);
-//! - `explicit.rs`: the explicit path (a body on a Dahl contact, moving along x);
-//! - `explicit_planar.rs`: the planar explicit path (a body on a planar Dahl or LuGre contact),
-//!   and `coulomb_limit.rs`, its step on a stiff Dahl contact's slow manifold (the body alone);
 //! - `ode.rs`: the equations as a plain ODE for other integrators;
 //! - `exchange.rs`: the contact for an importer's integrator (Model Exchange): states,
 //!   derivatives, event indicators and updates, directional derivatives.
 
 mod contact;
-mod coulomb_limit;
 mod drive;
 mod dynamics;
-mod elastic;
-mod exact;
 mod exchange;
-mod explicit;
-mod explicit_planar;
 mod ode;
+mod paths;
 mod setup;
 mod simulator;
 mod snapshot;
-mod stage_support;
 mod state;
 pub mod string;
 mod time;
@@ -68,20 +62,21 @@ pub fn build(
     t_start: f64,
     tolerance: f64,
 ) -> Result<Box<dyn Simulator>, SimError> {
-    build_on(config, params, t_start, tolerance, Integrator::ClosedForm)
+    build_on(config, params, t_start, tolerance, false)
 }
 
-/// [`build`] with the integrator chosen: [`Integrator::Radau`] forces the general integrator
-/// (for tests and benchmarks of the fast paths); any other takes the fastest that applies.
+/// [`build`], with `force_radau` whether the simulator takes the general integrator
+/// ([`Integrator::Radau`]) at every step even where a faster path applies (the reference of
+/// the tests and benchmarks of the fast paths).
 pub fn build_on(
     config: Config,
     params: Params,
     t_start: f64,
     tolerance: f64,
-    path: Integrator,
+    force_radau: bool,
 ) -> Result<Box<dyn Simulator>, SimError> {
     consistent(config, &params)?;
-    build_inconsistent(config, params, t_start, tolerance, path)
+    build_inconsistent(config, params, t_start, tolerance, force_radau)
 }
 
 /// The rules between parameters that each obey their own range: what a simulation refuses to
@@ -103,7 +98,7 @@ fn build_inconsistent(
     params: Params,
     t_start: f64,
     tolerance: f64,
-    path: Integrator,
+    force_radau: bool,
 ) -> Result<Box<dyn Simulator>, SimError> {
     params.validate()?;
     for id in ParamId::ALL {
@@ -121,15 +116,15 @@ fn build_inconsistent(
             target: t_start,
         });
     }
-    let c = config;
+    let (c, radau) = (config, force_radau);
     // One arm per (motion, drive) gives the state dimension N at compile time; the law is a
     // type parameter, so every combination is a separately optimised code path.
     macro_rules! with_law {
         ($v:ty, $d:ty, $n:literal) => {
             match c.law {
-                Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance, path),
-                Law::Dupont => boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance, path),
-                Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance, path),
+                Law::Dahl => boxed::<$v, Dahl, $d, $n>(c, params, t_start, tolerance, radau),
+                Law::Dupont => boxed::<$v, Dupont, $d, $n>(c, params, t_start, tolerance, radau),
+                Law::LuGre => boxed::<$v, LuGre, $d, $n>(c, params, t_start, tolerance, radau),
             }
         };
     }

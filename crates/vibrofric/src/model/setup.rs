@@ -1,12 +1,12 @@
 //! The one way from a scene's values to a running simulator: [`Setup`].
 
-use super::simulator::{Integrator, SimError, Simulator};
+use super::simulator::{SimError, Simulator};
 use crate::table::Params;
 use crate::table::{Config, InputId, Inputs};
 
 /// Everything a simulator starts from: the configuration, the parameters, the inputs (each one
 /// the configuration has is set), the start time, the relative tolerance, optionally the input
-/// derivatives and the integrator path. The FMU instance, the command line, the tests and the
+/// derivatives and whether to force the general integrator. The FMU instance, the command line, the tests and the
 /// examples all build their simulators through it, so that they start alike.
 ///
 /// ```
@@ -29,9 +29,9 @@ pub struct Setup {
     pub derivatives: [Option<f64>; InputId::ALL.len()],
     pub t_start: f64,
     pub tolerance: f64,
-    /// [`Integrator::Radau`] forces the general integrator (the reference of the tests and
-    /// benchmarks); any other value takes the fastest integrator the contact allows.
-    pub integrator: Integrator,
+    /// Radau IIA at every step (the reference of the tests and benchmarks of the fast paths),
+    /// else the fastest path that applies ([`super::build_on`]).
+    pub force_radau: bool,
     /// Whether the rules between parameters ([`super::consistent`]) are applied: not to a
     /// simulator that only reads values at parameters still being set ([`Setup::provisional`]).
     pub consistent: bool,
@@ -47,7 +47,7 @@ impl Setup {
             derivatives: [None; InputId::ALL.len()],
             t_start: 0.0,
             tolerance: 1e-6,
-            integrator: Integrator::ClosedForm,
+            force_radau: false,
             consistent: true,
         }
     }
@@ -78,9 +78,13 @@ impl Setup {
         Setup { tolerance, ..self }
     }
 
-    /// The integrator (see [`super::build_on`]).
-    pub fn on(self, integrator: Integrator) -> Setup {
-        Setup { integrator, ..self }
+    /// Whether to take Radau IIA at every step even where a faster path applies (see
+    /// [`super::build_on`]).
+    pub fn force_radau(self, force_radau: bool) -> Setup {
+        Setup {
+            force_radau,
+            ..self
+        }
     }
 
     /// Without the rules between parameters ([`super::consistent`]): a simulator that reads
@@ -106,7 +110,7 @@ impl Setup {
             self.params,
             self.t_start,
             self.tolerance,
-            self.integrator,
+            self.force_radau,
         )?;
         if let Some(inputs) = &self.inputs {
             for id in InputId::ALL {

@@ -5,6 +5,7 @@
 
 use super::contact::Contact;
 use super::drive::DriveKind;
+use super::paths::{self, Saved};
 use super::simulator::SimError;
 use super::state::{ContactState, StepMeanState, WindowState};
 use super::time::{boundary_snap, MAX_INPUT_RATE, WINDOWS_MAX};
@@ -13,28 +14,7 @@ use crate::physics::{FrictionLaw, Harmonic, Vector};
 use crate::solver::{Radau5, MAX_QUAD};
 use crate::table::{InputId, Params};
 
-/// The one rule of the explicit paths' step proposal (`Contact::exp_h`), kept by stepping and
-/// checked on restore: a length ≥ 0 (0: none yet, the path chooses one), or +∞ where nothing
-/// bounds the next step (no vibration and a rate that vanishes, a subnormal sliding velocity:
-/// a path then steps to its target, as with any proposal beyond it). Anything else (NaN, a
-/// negative length) becomes 0. The paths store their proposal through [`Contact::propose`]
-/// and a restored state must hold a proposal this leaves as it is, so that every proposal a
-/// path stores restores, and only those.
-fn step_proposal(h: f64) -> f64 {
-    if h >= 0.0 {
-        h
-    } else {
-        0.0
-    }
-}
-
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D, N> {
-    /// Stores the step proposal a path leaves for the next call, under [`step_proposal`]'s
-    /// rule.
-    pub(super) fn propose(&mut self, h: f64) {
-        self.exp_h = step_proposal(h);
-    }
-
     /// The complete state.
     pub(super) fn save(&self) -> ContactState {
         let h = self
@@ -58,8 +38,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 last: self.window.last,
             },
             integrator,
-            exp_h: self.exp_h,
-            direction: self.direction,
+            exp_h: self.paths.h,
+            direction: self.paths.direction(),
             step_mean: StepMeanState {
                 last: self.step.last,
                 h: self.step.h,
@@ -177,7 +157,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 ));
             }
         }
-        if step_proposal(s.exp_h).to_bits() != s.exp_h.to_bits() {
+        if paths::step_proposal(s.exp_h).to_bits() != s.exp_h.to_bits() {
             return bad(format!(
                 "step proposal of the explicit paths = {}: must be a length >= 0, or +inf where nothing bounds the step",
                 s.exp_h
@@ -207,13 +187,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             last: w.last,
         };
         c.radau = radau;
-        c.radau_only = self.radau_only;
-        c.exp_h = s.exp_h;
-        c.direction = s.direction;
-        if c.params.r_ba == self.params.r_ba {
-            // The same breakaway ratio: the same shape, without fitting it again.
-            c.elastoplastic = self.elastoplastic.clone();
-        }
+        // The same breakaway ratio: the same shape, without fitting it again.
+        let same_shape = c.params.r_ba == self.params.r_ba;
+        let kept = Saved::new(s.exp_h, s.direction);
+        c.paths.load(&self.paths, kept, same_shape);
         c.step = StepMean {
             acc: [0.0; MAX_QUAD],
             last: s.step_mean.last,

@@ -10,8 +10,14 @@
 //! `kappa = 1`, a power law otherwise: [`Relaxation::remaining`]), so that
 //! `s = sigma·s_ss·(1 − w)` and `∫ s dt = sigma·s_ss·((b − a) − ∫ w dt)`.
 
-use crate::physics::{trig, Relaxation};
+use super::{Kept, Path, Shared};
+use crate::model::drive::DriveKind;
+use crate::model::dynamics::Dynamics;
+use crate::model::simulator::SimError;
+use crate::physics::{trig, FrictionLaw, Relaxation, Vector};
 use crate::solver::quadrature::{adaptive, Integral};
+use crate::solver::{Quad, Radau5};
+use crate::table::InputId;
 
 /// The relative velocity along x over one call, from its start `t0`:
 /// `v_r(t0 + tau) = b0 + b1·tau − amp·cos(theta0 + omega·tau)` (the importer's inputs are affine
@@ -262,6 +268,89 @@ fn segment(forcing: &Forcing, relax: Relaxation, a: f64, b: f64, tol: f64, out: 
     }
     out.evals += j.evals;
     out.integral_s += target * (len - j.value);
+}
+
+/// The closed-form path's relaxation, where this contact takes it: a longitudinal velocity
+/// drive (no body state) with a law that relaxes in the relative displacement (Dahl).
+pub(super) fn relaxation<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
+    c: &Shared<'_, V, L, D, N>,
+    k: &Kept,
+) -> Option<Relaxation> {
+    if V::DIM == 1 && D::N_BODY == 0 && !k.force_radau && c.dynamics.load.is_none() {
+        c.dynamics.law.relaxation()
+    } else {
+        None
+    }
+}
+
+/// The closed-form path (longitudinal Dahl under velocity drive).
+pub(super) struct ClosedForm;
+
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N> for ClosedForm {
+    fn applies(c: &Shared<'_, V, L, D, N>, _: &Radau5<N>, k: &Kept) -> bool {
+        relaxation(c, k).is_some()
+    }
+
+    fn advance(
+        c: &Shared<'_, V, L, D, N>,
+        r: &mut Radau5<N>,
+        k: &mut Kept,
+        t_target: f64,
+        _: f64,
+    ) -> Result<Quad, SimError> {
+        let relax = relaxation(c, k).expect("closed-form path without a relaxation");
+        Ok(advance_exact(c, r, relax, t_target).1)
+    }
+}
+
+/// Advances the closed-form path to `t_target`; returns `exp(−decay)`'s exponent and
+/// `∫F_F dt` over the call (longitudinal: `F_Fy` = 0).
+pub(super) fn advance_exact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
+    c: &Shared<'_, V, L, D, N>,
+    r: &mut Radau5<N>,
+    relax: Relaxation,
+    t_target: f64,
+) -> (f64, Quad) {
+    let t0 = r.t;
+    let forcing = forcing_x(c.dynamics, t0, c.config.input_support);
+    let a = advance(&forcing, relax, r.y[0], t_target - t0, r.tolerance());
+    r.t = t_target;
+    r.y[0] = a.s;
+    r.restart();
+    let st = &mut r.stats;
+    st.steps += a.segments;
+    st.events += a.roots;
+    st.rhs_evals += a.evals;
+    (a.decay, [relax.stiffness * a.integral_s, 0.0])
+}
+
+/// The relative velocity along x of a velocity drive from `t` on, for the closed-form and
+/// exponential paths: the affine input tracks and the harmonic source's x component.
+pub(super) fn forcing_x<V: Vector, L: FrictionLaw, D: DriveKind<V>>(
+    dynamics: &Dynamics<V, L, D>,
+    t: f64,
+    input_support: bool,
+) -> Forcing {
+    let (vd, vsx) = (
+        &dynamics.tracks[InputId::VD.index()],
+        &dynamics.tracks[InputId::VSx.index()],
+    );
+    let (mut b0, mut b1) = (vd.at(t), vd.slope);
+    if input_support {
+        b0 -= vsx.at(t);
+        b1 -= vsx.slope;
+    }
+    let (amp, omega, theta0) = match &dynamics.harmonic {
+        Some(h) => (h.v_a() * h.dir.0, std::f64::consts::TAU * h.f, h.theta(t)),
+        None => (0.0, 0.0, 0.0),
+    };
+    Forcing {
+        b0,
+        b1,
+        amp,
+        omega,
+        theta0,
+    }
 }
 
 #[cfg(test)]

@@ -1,6 +1,6 @@
 //! The Coulomb limit of a stiff planar Dahl contact (`kappa = 1`), and of a stiff LuGre
 //! contact on the x axis ([`Limit::lugre_point`]): a step kind of the planar explicit path
-//! (`explicit_planar.rs`) in which the deformation is a function of the body's motion and only
+//! (`explicit_planar/`) in which the deformation is a function of the body's motion and only
 //! the body is integrated.
 //!
 //! With `r = |v_r|`, `e = v_r/r` and `L = s_ss`, the law `ds/dt = v_r − r·s/L` reads
@@ -47,7 +47,7 @@
 //! 3.1e-11, 4.0e-9 and 1.3e-9 at 1e-7 (at 1e8 and 1e-6: 2.9e-9 and 2.9e-8, 1.0e-8 and 5.9e-8).
 //! About a quarter of the manifold's attempts were rejected; DOPRI5's proportional-integral
 //! controller on them (β = 0.04, 0.08) cost more (PaperTransverse 1.46 and 1.48 against 1.36
-//! in the same run); Gustafsson's predictive step (`explicit_planar.rs`) halved them. Since the
+//! in the same run); Gustafsson's predictive step (`explicit_planar/`) halved them. Since the
 //! planar path's plain steps became about 30 % cheaper (rotations of the harmonic phase,
 //! stages in place), the ratios are PaperTransverse 1.8 and RigTransverse 1.8 from 0.1 s on,
 //! 5.1 from rest, with the cost at 1e12 about what it was: a manifold stage takes a sine and
@@ -65,8 +65,8 @@
 //! 3.8e-8 (9.6e-8). The window mean `F_mean` is less accurate than Radau's at tight
 //! tolerances (at 1e11 and 1e-8: 1.2e-7 of `F_C` against 2.0e-8), with or without this step.
 
-use super::drive::{DriveInputs, DriveKind};
-use super::dynamics::System;
+use crate::model::drive::{DriveInputs, DriveKind};
+use crate::model::dynamics::System;
 use crate::physics::{FrictionLaw, Vector};
 use crate::solver::dopri::DoPriStep;
 use crate::solver::MAX_DIM;
@@ -455,7 +455,10 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
             weight: 1.0 + st.damping * r / (st.k_t * st.g),
         })
     }
+}
 
+/// The manifold's steps: where one starts, and the step of the body alone on it.
+impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'_, '_, V, L, D> {
     /// The manifold at the start of a step from `(t, u)` where the state's deformation is on
     /// it (within the tolerance's fraction [`START_FRACTION`]) and the expansion converges
     /// there; `None` where not (the caller then takes its other steps). With the longest step

@@ -1,10 +1,10 @@
 //! The support velocity at the stage times of the explicit paths' Dormand–Prince steps
-//! (`explicit.rs`, `explicit_planar.rs`): the harmonic source's by rotations of its phase, two
+//! (`explicit/`, `explicit_planar/`): the harmonic source's by rotations of its phase, two
 //! sines and cosines per attempt rather than a cosine at each of its five distinct stage
 //! times; the input tracks' at each time.
 
-use super::drive::DriveKind;
-use super::dynamics::Dynamics;
+use crate::model::drive::DriveKind;
+use crate::model::dynamics::Dynamics;
 use crate::physics::{trig, FrictionLaw, Harmonic, InputTrack, Vector};
 use crate::solver::dopri::C;
 use crate::table::InputId;
