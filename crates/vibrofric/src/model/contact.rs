@@ -660,15 +660,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     }
 
     fn stats(&self) -> StepStats {
-        let s = self.radau.stats;
-        StepStats {
-            steps: s.steps,
-            rejected: s.rejected,
-            rhs_evals: s.rhs_evals,
-            jacobians: s.jacobians,
-            events: s.events,
-            limit_steps: s.limit_steps,
-        }
+        self.radau.stats.into()
     }
 
     fn integrator(&self) -> Integrator {
