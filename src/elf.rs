@@ -2,14 +2,16 @@
 //! (`.gnu.version_r`) and the libraries it needs (`DT_NEEDED`), read from the ELF file itself.
 //!
 //! The exporter prints the highest `GLIBC_` version of the binary it ships (the oldest glibc
-//! that can load the FMU), and the tests check it. Only 64-bit little-endian ELF (the FMI
-//! `linux64` platform) is read; anything else is an error that says what was found.
+//! that can load the FMU), and the tests check it. Only 64-bit little-endian ELF (x86-64 and
+//! aarch64 Linux) is read; anything else is an error that says what was found.
 
 use std::fmt;
 
 /// The version needs of a shared library.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Needs {
+    /// The processor the code is for (`e_machine`): `x86_64`, `aarch64`, else its number.
+    pub machine: String,
     /// `DT_NEEDED` entries, in file order (`libc.so.6`, `libm.so.6`, ...).
     pub libraries: Vec<String>,
     /// Every version name the library requires (`GLIBC_2.2.5`, `GLIBC_2.14`, `GCC_3.0`, ...),
@@ -96,6 +98,8 @@ struct Section {
 const SHT_DYNAMIC: u32 = 6;
 const SHT_GNU_VERNEED: u32 = 0x6fff_fffe;
 const DT_NEEDED: u64 = 1;
+const EM_X86_64: u16 = 62;
+const EM_AARCH64: u16 = 183;
 
 /// Reads the needs of a 64-bit little-endian ELF shared library.
 pub fn needs(bytes: &[u8]) -> Result<Needs, String> {
@@ -103,8 +107,13 @@ pub fn needs(bytes: &[u8]) -> Result<Needs, String> {
         return Err("not an ELF file".into());
     }
     if bytes.get(4) != Some(&2) || bytes.get(5) != Some(&1) {
-        return Err("not a 64-bit little-endian ELF file (the linux64 platform)".into());
+        return Err("not a 64-bit little-endian ELF file (x86-64 or aarch64 Linux)".into());
     }
+    let machine = match u16_at(bytes, 0x12)? {
+        EM_X86_64 => "x86_64".to_string(),
+        EM_AARCH64 => "aarch64".to_string(),
+        other => format!("ELF machine {other}"),
+    };
     let shoff = usize_of(u64_at(bytes, 0x28)?)?;
     let shentsize = u16_at(bytes, 0x3a)? as usize;
     let shnum = u16_at(bytes, 0x3c)? as usize;
@@ -127,7 +136,10 @@ pub fn needs(bytes: &[u8]) -> Result<Needs, String> {
             .map(|t| t.offset)
             .ok_or_else(|| format!("section link {} out of range", s.link))
     };
-    let mut out = Needs::default();
+    let mut out = Needs {
+        machine,
+        ..Needs::default()
+    };
     for s in &sections {
         match s.kind {
             SHT_DYNAMIC => {

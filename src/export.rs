@@ -1,7 +1,8 @@
 //! `vibrofric export`: reads every scene first (one bad scene exports nothing), builds the
 //! libraries of the requested platforms, and writes each scene's FMI 2.0 and FMI 3.0 FMU with its
-//! model description and documentation page; optionally the checked-in model descriptions and
-//! the self-checks.
+//! model description and documentation page (and, for ARM Linux, which FMI 2.0 names no folder
+//! for, an FMI 2.0 FMU of its own in `<out>/aarch64-linux/`: `platforms.rs`); optionally the
+//! checked-in model descriptions and the self-checks.
 
 use std::path::{Path, PathBuf};
 
@@ -10,7 +11,7 @@ use vibrofric::description::{xml, xml3, Scene};
 use vibrofric_docs::docs;
 
 use crate::package::write_fmu;
-use crate::platforms::{self, Request};
+use crate::platforms::{self, Request, Shipped};
 use crate::self_check::{self_check, self_check_fmi3, self_check_model_exchange};
 use crate::{standard_scenes, SCENES_DIR};
 
@@ -51,9 +52,29 @@ pub fn export(
     for line in &skipped {
         println!("{line}");
     }
-    let names: Vec<&str> = shipped.iter().map(|s| s.platform.name()).collect();
-    println!("platforms in each FMU: {}", names.join(", "));
-    let doc2: Vec<docs::Binary> = shipped.iter().map(|s| s.doc2.clone()).collect();
+    // The platforms of the standard FMI 2.0 FMUs, and those with FMI 2.0 FMUs of their own.
+    let (own2, main2): (Vec<&Shipped>, Vec<&Shipped>) =
+        shipped.iter().partition(|s| s.platform.own_fmi2_edition());
+    let names = |list: &[&Shipped]| -> String {
+        list.iter()
+            .map(|s| s.platform.name())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    println!(
+        "platforms in each FMU: FMI 3.0 {}; FMI 2.0 {}",
+        names(&shipped.iter().collect::<Vec<_>>()),
+        names(&main2)
+    );
+    for s in &own2 {
+        println!(
+            "{}: FMI 2.0 names no folder for it: its FMI 2.0 FMUs are in {}, with the library in binaries/{}/",
+            s.platform.name(),
+            out.join(s.platform.name()).display(),
+            s.platform.fmi2_folder()
+        );
+    }
+    let doc2: Vec<docs::Binary> = main2.iter().map(|s| s.doc2.clone()).collect();
     let doc3: Vec<docs::Binary> = shipped.iter().map(|s| s.doc3.clone()).collect();
 
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -62,22 +83,22 @@ pub fn export(
     }
     let out3 = out.join("fmi3");
     std::fs::create_dir_all(&out3).map_err(|e| format!("{}: {e}", out3.display()))?;
+    for s in &own2 {
+        let d = out.join(s.platform.name());
+        std::fs::create_dir_all(&d).map_err(|e| format!("{}: {e}", d.display()))?;
+    }
     for (file, scene) in &scenes {
         let fmu = out.join(format!("{}.fmu", scene.model_identifier));
         let description = xml::model_description(scene);
         let id = &scene.model_identifier;
-        let bins2: Vec<(String, &[u8])> = shipped
-            .iter()
-            .map(|s| {
-                let ext = s.platform.extension();
-                (
-                    format!("binaries/{}/{id}.{ext}", s.platform.name()),
-                    &s.fmi2.bytes[..],
-                )
-            })
-            .collect();
         let doc = docs::index_html_for(scene, &doc2);
-        write_fmu(&fmu, scene, &description, &bins2, &doc)?;
+        write_fmu(&fmu, scene, &description, &fmi2_binaries(&main2, id), &doc)?;
+        // FMI 2.0 FMUs of a platform FMI 2.0 names no folder for: its library alone.
+        for s in &own2 {
+            let p = out.join(s.platform.name()).join(format!("{id}.fmu"));
+            let doc = docs::index_html_for(scene, std::slice::from_ref(&s.doc2));
+            write_fmu(&p, scene, &description, &fmi2_binaries(&[s], id), &doc)?;
+        }
         // The FMI 3.0 edition: the same libraries and scene, FMI 3.0's description and layout.
         let fmu3 = out3.join(format!("{id}.fmu"));
         let bins3: Vec<(String, &[u8])> = shipped
@@ -126,4 +147,14 @@ pub fn export(
         }
     }
     Ok(())
+}
+
+/// The FMI 2.0 archive entries of these platforms' libraries: `binaries/<folder>/<id>.<ext>`.
+fn fmi2_binaries<'a>(list: &[&'a Shipped], id: &str) -> Vec<(String, &'a [u8])> {
+    list.iter()
+        .map(|s| {
+            let (folder, ext) = (s.platform.fmi2_folder(), s.platform.extension());
+            (format!("binaries/{folder}/{id}.{ext}"), &s.fmi2.bytes[..])
+        })
+        .collect()
 }

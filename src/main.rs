@@ -14,9 +14,10 @@
 //!
 //! `--platforms` chooses the platforms (`platforms.rs`): Linux (glibc 2.17 by cargo-zigbuild
 //! where installed, else the host build; `VIBROFRIC_PORTABLE=1` requires the glibc 2.17 build,
-//! `=0` ships the host build), Windows (mingw-w64) and macOS (cargo-zigbuild, universal). By
-//! default every platform whose toolchain is installed; the output names the others and how to
-//! add them.
+//! `=0` ships the host build), ARM Linux (cargo-zigbuild, glibc 2.17; FMI 3.0's `aarch64-linux`,
+//! and FMI 2.0 FMUs of its own in `DIR/aarch64-linux/`), Windows (mingw-w64) and macOS
+//! (cargo-zigbuild, universal). By default every platform whose toolchain is installed; the
+//! output names the others and how to add them.
 
 //!
 //! The command line is here; `export.rs` writes the FMUs, `package.rs` their archives,
@@ -77,8 +78,9 @@ enum Command {
         #[arg(long)]
         check: bool,
         /// Platforms to put into each FMU: `available` (every platform whose toolchain is
-        /// installed; the others are named), `all` (linux64, win64, darwin64, or fail), or a
-        /// list such as `linux64,win64`.
+        /// installed; the others are named), `all` (linux64, aarch64-linux, win64, darwin64, or
+        /// fail), or a list such as `linux64,win64`. ARM Linux (`aarch64-linux`) goes into the
+        /// FMI 3.0 FMUs and into FMI 2.0 FMUs of its own in OUT/aarch64-linux/.
         #[arg(long, value_name = "LIST", default_value = "available", value_parser = Request::parse)]
         platforms: Request,
     },

@@ -3,8 +3,13 @@
 //! | platform | FMI 2.0 folder | FMI 3.0 folders | built by | library |
 //! |---|---|---|---|---|
 //! | Linux | `linux64` | `x86_64-linux` | `cargo zigbuild`, target `x86_64-unknown-linux-gnu.2.17` (glibc 2.17), else the host build | `.so` |
+//! | ARM Linux | `linux64` of a separate FMI 2.0 FMU (`<out>/aarch64-linux/`) | `aarch64-linux` | `cargo zigbuild`, target `aarch64-unknown-linux-gnu.2.17` (glibc 2.17) | `.so` |
 //! | Windows | `win64` | `x86_64-windows` | `cargo build`, target `x86_64-pc-windows-gnu`, linked by mingw-w64 | `.dll` |
 //! | macOS | `darwin64` (universal) | `x86_64-darwin`, `aarch64-darwin` (each slice) | `cargo zigbuild`, target `universal2-apple-darwin`, macOS 11 | `.dylib` |
+//!
+//! FMI 2.0 names no ARM folder. fmpy, the FMI Library and rust-fmi all load `binaries/linux64/`
+//! on 64-bit ARM Linux, where the x86-64 library already is: an FMI 2.0 FMU can hold only one of
+//! the two, so the aarch64 library goes into an FMI 2.0 FMU of its own, whose `linux64` holds it.
 //!
 //! The exporter installs nothing: where a toolchain is missing it says which and how to get it
 //! (`bash tests/cross/setup.sh` installs them all), ships the platforms it could build, and fails
@@ -21,25 +26,48 @@ use crate::{binary, elf};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Platform {
     Linux64,
+    /// 64-bit ARM Linux (FMI 3.0's `aarch64-linux`).
+    LinuxAarch64,
     Win64,
     Darwin64,
 }
 
 impl Platform {
-    pub const ALL: [Platform; 3] = [Platform::Linux64, Platform::Win64, Platform::Darwin64];
+    pub const ALL: [Platform; 4] = [
+        Platform::Linux64,
+        Platform::LinuxAarch64,
+        Platform::Win64,
+        Platform::Darwin64,
+    ];
 
-    /// The FMI 2.0 folder, also the name on the command line.
+    /// The name on the command line: the FMI 2.0 folder of the desktop platforms, FMI 3.0's
+    /// platform tuple for ARM Linux, which FMI 2.0 does not name.
     pub fn name(self) -> &'static str {
         match self {
             Platform::Linux64 => "linux64",
+            Platform::LinuxAarch64 => "aarch64-linux",
             Platform::Win64 => "win64",
             Platform::Darwin64 => "darwin64",
         }
     }
 
+    /// The folder of `binaries/` that holds this platform's library in an FMI 2.0 FMU.
+    pub fn fmi2_folder(self) -> &'static str {
+        match self {
+            Platform::LinuxAarch64 => "linux64",
+            p => p.name(),
+        }
+    }
+
+    /// Whether this platform's FMI 2.0 library goes into FMI 2.0 FMUs of its own, in
+    /// `<out>/<name>/`: its [`Platform::fmi2_folder`] is another platform's in the standard FMUs.
+    pub fn own_fmi2_edition(self) -> bool {
+        self == Platform::LinuxAarch64
+    }
+
     pub fn extension(self) -> &'static str {
         match self {
-            Platform::Linux64 => "so",
+            Platform::Linux64 | Platform::LinuxAarch64 => "so",
             Platform::Win64 => "dll",
             Platform::Darwin64 => "dylib",
         }
@@ -48,6 +76,7 @@ impl Platform {
     fn os(self) -> &'static str {
         match self {
             Platform::Linux64 => "x86-64 Linux",
+            Platform::LinuxAarch64 => "64-bit ARM Linux (aarch64)",
             Platform::Win64 => "64-bit Windows (x86-64)",
             Platform::Darwin64 => "macOS on Intel and Apple silicon",
         }
@@ -57,6 +86,10 @@ impl Platform {
     fn toolchain_hint(self) -> &'static str {
         match self {
             Platform::Linux64 => "build on x86-64 Linux",
+            Platform::LinuxAarch64 => {
+                "`rustup target add aarch64-unknown-linux-gnu`, and zig with cargo-zigbuild \
+                 (`pip install ziglang cargo-zigbuild`, into .venv)"
+            }
             Platform::Win64 => {
                 "`rustup target add x86_64-pc-windows-gnu` and mingw-w64's gcc \
                  (Debian: `apt-get install gcc-mingw-w64-x86-64`)"
@@ -93,7 +126,7 @@ impl Request {
                 .find(|p| p.name() == name)
                 .ok_or_else(|| {
                     format!(
-                        "--platforms {s:?}: unknown platform {name:?}; valid: available, all, or a list of linux64, win64, darwin64"
+                        "--platforms {s:?}: unknown platform {name:?}; valid: available, all, or a list of linux64, aarch64-linux, win64, darwin64"
                     )
                 })?;
             if !list.contains(&p) {
@@ -107,7 +140,7 @@ impl Request {
 /// One platform's library as it goes into both editions of an FMU.
 pub struct Shipped {
     pub platform: Platform,
-    /// The library for the FMI 2.0 folder (`binaries/<platform>/`).
+    /// The library for the FMI 2.0 folder (`binaries/<fmi2_folder>/`).
     pub fmi2: Library,
     /// The FMI 3.0 folders (`binaries/<arch>-<os>/`) and the library each gets.
     pub fmi3: Vec<(&'static str, Library)>,
@@ -256,6 +289,8 @@ const PORTABLE_TARGET: &str = "x86_64-unknown-linux-gnu.2.17";
 pub const PORTABLE_GLIBC: &str = "2.17";
 const WINDOWS_TARGET: &str = "x86_64-pc-windows-gnu";
 const MACOS_TARGETS: [&str; 2] = ["x86_64-apple-darwin", "aarch64-apple-darwin"];
+/// The Rust target of the ARM Linux build, glibc 2.17 as the x86-64 one.
+const ARM_LINUX_TARGET: &str = "aarch64-unknown-linux-gnu";
 
 /// How the glibc 2.17 build is asked for: `VIBROFRIC_PORTABLE` = `1` (required: fail without
 /// it), `0` (never), unset (when cargo-zigbuild is found).
@@ -336,6 +371,10 @@ pub fn build(
     for p in Platform::ALL.into_iter().filter(|p| wanted.contains(p)) {
         let result = match p {
             Platform::Linux64 => linux(library, cargo.as_ref()),
+            Platform::LinuxAarch64 => cargo
+                .as_ref()
+                .map_err(|e| e.clone().into())
+                .and_then(linux_aarch64),
             Platform::Win64 => cargo
                 .as_ref()
                 .map_err(|e| e.clone().into())
@@ -424,15 +463,57 @@ fn linux(library: Option<&Path>, cargo: Result<&Cargo, &String>) -> Result<Shipp
             }
         }
     };
-    let lib = Library::read(lib)?;
-    let needs = elf::needs(&lib.bytes).map_err(|e| format!("{}: {e}", lib.path.display()))?;
+    elf_shipped(Platform::Linux64, Library::read(lib)?, source)
+}
+
+/// The ARM Linux library: `cargo zigbuild --target aarch64-unknown-linux-gnu.2.17`, linked by zig
+/// against glibc 2.17's symbol versions as the x86-64 one.
+fn linux_aarch64(cargo: &Cargo) -> Result<Shipped, Missing> {
+    let mut missing = vec![];
+    if !has_rust_target(ARM_LINUX_TARGET) {
+        missing.push(format!("the Rust target {ARM_LINUX_TARGET}"));
+    }
+    if cargo.zigbuild.is_none() {
+        missing.push("cargo-zigbuild (with zig)".into());
+    }
+    toolchain(missing)?;
+    let target = format!("{ARM_LINUX_TARGET}.{PORTABLE_GLIBC}");
+    println!(
+        "aarch64-linux: building the FMU library for glibc >= {PORTABLE_GLIBC} with cargo-zigbuild (target {target})"
+    );
+    cargo.build(true, &target, &[])?;
+    let lib = cargo.output(ARM_LINUX_TARGET, &lib_file(Platform::LinuxAarch64))?;
+    elf_shipped(
+        Platform::LinuxAarch64,
+        Library::read(lib)?,
+        "cargo-zigbuild",
+    )
+}
+
+/// A Linux library as the ELF file says: refused when its code is for another processor than
+/// the platform's; the highest glibc symbol version it imports and the libraries it links go
+/// into the exporter's line and the documentation page.
+fn elf_shipped(platform: Platform, lib: Library, source: &str) -> Result<Shipped, Missing> {
+    let at = lib.path.display().to_string();
+    let needs = elf::needs(&lib.bytes).map_err(|e| format!("{at}: {e}"))?;
+    let (arch, fmi3_folder) = match platform {
+        Platform::LinuxAarch64 => ("aarch64", "aarch64-linux"),
+        _ => ("x86_64", "x86_64-linux"),
+    };
+    if needs.machine != arch {
+        return Err(Missing::Failed(format!(
+            "{at}: its code is for {}, not {arch}: not a {} library",
+            needs.machine,
+            platform.name()
+        )));
+    }
     let glibc = needs.max_glibc().map(|v| v.to_string());
     let need = glibc
         .as_deref()
         .map_or("no versioned glibc symbol".to_string(), |v| {
             format!("needs glibc >= {v}")
         });
-    let mut line = format!("linux64: {} ({source}): {need}", lib.path.display());
+    let mut line = format!("{}: {at} ({source}): {need}", platform.name());
     if source == "cargo-zigbuild" {
         line.push_str(&format!(
             " (built for glibc {PORTABLE_GLIBC}: RHEL 7/8, Ubuntu 18.04/20.04 and newer)"
@@ -453,18 +534,30 @@ fn linux(library: Option<&Path>, cargo: Result<&Cargo, &String>) -> Result<Shipp
     let doc = |folder| docs::Binary {
         folders: vec![folder],
         file_ext: "so",
-        os: Platform::Linux64.os(),
+        os: platform.os(),
         requirement: requirement.clone(),
         libraries: needs.libraries.clone(),
     };
     Ok(Shipped {
-        platform: Platform::Linux64,
-        fmi3: vec![("x86_64-linux", lib.clone())],
+        platform,
+        fmi3: vec![(fmi3_folder, lib.clone())],
         fmi2: lib,
         line,
-        doc2: doc("linux64"),
-        doc3: doc("x86_64-linux"),
+        doc2: doc(platform.fmi2_folder()),
+        doc3: doc(fmi3_folder),
     })
+}
+
+/// A platform whose toolchain misses something: which (none: ready to build).
+fn toolchain(missing: Vec<String>) -> Result<(), Missing> {
+    if missing.is_empty() {
+        Ok(())
+    } else {
+        Err(Missing::Toolchain(format!(
+            "missing {}",
+            missing.join(" and ")
+        )))
+    }
 }
 
 /// The Windows DLL: `cargo build --target x86_64-pc-windows-gnu`, linked by mingw-w64's gcc.
@@ -478,12 +571,7 @@ fn windows(cargo: &Cargo) -> Result<Shipped, Missing> {
     if !Path::new(&linker).is_file() && !on_path(&cargo.path, &linker) {
         missing.push(format!("the linker {linker} (mingw-w64)"));
     }
-    if !missing.is_empty() {
-        return Err(Missing::Toolchain(format!(
-            "missing {}",
-            missing.join(" and ")
-        )));
-    }
+    toolchain(missing)?;
     println!("win64: building the FMU library with mingw-w64 (target {WINDOWS_TARGET})");
     cargo.build(false, WINDOWS_TARGET, &[])?;
     let lib = Library::read(cargo.output(WINDOWS_TARGET, &lib_file(Platform::Win64))?)?;
@@ -520,12 +608,7 @@ fn macos(cargo: &Cargo) -> Result<Shipped, Missing> {
     if cargo.zigbuild.is_none() {
         missing.push("cargo-zigbuild (with zig)".into());
     }
-    if !missing.is_empty() {
-        return Err(Missing::Toolchain(format!(
-            "missing {}",
-            missing.join(" and ")
-        )));
-    }
+    toolchain(missing)?;
     let (major, minor) = binary::MACOS_MIN;
     let deployment = format!("{major}.{minor}");
     println!(
@@ -643,6 +726,10 @@ mod tests {
         );
         let e = Request::parse("linux64,macos").unwrap_err();
         assert!(e.contains("unknown platform \"macos\""), "{e}");
-        assert!(e.contains("linux64, win64, darwin64"), "{e}");
+        assert!(e.contains("linux64, aarch64-linux, win64, darwin64"), "{e}");
+        assert_eq!(
+            Request::parse("aarch64-linux"),
+            Ok(Request::Required(vec![Platform::LinuxAarch64]))
+        );
     }
 }

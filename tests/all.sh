@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The one test command: checks the toolchain, makes the Python environment, installs the cross
-# toolchains (tests/cross/setup.sh), builds, exports dist/ for Linux (glibc 2.17), Windows and
-# macOS with the exporter's self-check, runs the Rust tests, the Windows tests under Wine
-# (tests/cross/test.sh), then the fmpy tests in tests/python against dist/. Each step says what it
-# does and when it started.
+# toolchains (tests/cross/setup.sh), builds the partner importer fmi-sim for Linux and Windows
+# (once per machine), builds, exports dist/ for Linux (x86-64 and aarch64, glibc 2.17), Windows
+# and macOS with the exporter's self-check, runs the Rust tests, the Windows tests under Wine and
+# the ARM Linux tests under qemu (tests/cross/test.sh), then the fmpy tests in tests/python against
+# dist/ (Windows fmi-sim under Wine among them). Each step says what it does and when it started.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -55,19 +56,26 @@ else
     echo "up to date (pins unchanged)"
 fi
 
+step "cross toolchains for the Windows, macOS and ARM Linux libraries and their tests (tests/cross/setup.sh)"
+bash tests/cross/setup.sh
+
 # fmi-sim, the partner importer from crates.io, pinned; built once per machine into
 # ~/.cache/vibrofric (VIBROFRIC_CACHE), outside the clone, so that every clone on the machine
-# shares it (its build needs libclang, which .ci/run installs). tests/python/test_partners.py
-# finds it by FMI_SIM.
+# shares it (its build needs libclang, which .ci/run and tests/cross/setup.sh install), for this
+# machine and for Windows (run under Wine: the Windows importer of tests/python/test_partners.py,
+# which finds them by FMI_SIM and FMI_SIM_WINDOWS).
 FMI_SIM_VERSION=0.7.0
-fmi_sim_root="${VIBROFRIC_CACHE:-$HOME/.cache/vibrofric}/fmi-sim-$FMI_SIM_VERSION"
-case "$fmi_sim_root" in /*) ;; *) fmi_sim_root="$PWD/$fmi_sim_root" ;; esac
-step "fmi-sim $FMI_SIM_VERSION, a partner FMI importer for tests/python/test_partners.py"
-if [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
-    echo "building it from crates.io into $fmi_sim_root: done once per machine, 7-20 minutes on 2 cores"
-    echo "(about 200 crates; cargo's progress below, one numbered line per crate compiled)"
+cache="${VIBROFRIC_CACHE:-$HOME/.cache/vibrofric}"
+case "$cache" in /*) ;; *) cache="$PWD/$cache" ;; esac
+fmi_sim_root="$cache/fmi-sim-$FMI_SIM_VERSION"
+fmi_sim_windows_root="$cache/fmi-sim-$FMI_SIM_VERSION-x86_64-pc-windows-gnu"
+# cargo install fmi-sim into root $1 (further arguments to cargo install), cargo's progress shown
+# as one numbered line per crate compiled.
+install_fmi_sim() {
+    local root=$1
+    shift
     # A shell loop, not awk: Debian's awk (mawk) reads a pipe in blocks and would hold the lines.
-    cargo install fmi-sim --version "=$FMI_SIM_VERSION" --locked --root "$fmi_sim_root" 2>&1 |
+    cargo install fmi-sim --version "=$FMI_SIM_VERSION" --locked --root "$root" "$@" 2>&1 |
         {
             n=0
             while IFS= read -r line; do
@@ -77,28 +85,43 @@ if [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
                 esac
             done
         }
+}
+step "fmi-sim $FMI_SIM_VERSION for Linux and for Windows, partner FMI importers for tests/python/test_partners.py"
+if [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
+    echo "building it from crates.io into $fmi_sim_root: done once per machine, 7-20 minutes on 2 cores"
+    echo "(about 200 crates; cargo's progress below, one numbered line per crate compiled)"
+    install_fmi_sim "$fmi_sim_root"
     [ -x "$fmi_sim_root/bin/fmi-sim" ] || { echo "error: fmi-sim was not installed" >&2; exit 1; }
 else
-    echo "already built"
+    echo "fmi-sim for Linux: already built"
+fi
+if [ ! -f "$fmi_sim_windows_root/bin/fmi-sim.exe" ]; then
+    echo "building fmi-sim.exe for x86_64-pc-windows-gnu into $fmi_sim_windows_root: done once per"
+    echo "machine, 8-20 minutes on 2 cores (bindgen reads the C headers of mingw-w64's sysroot)"
+    BINDGEN_EXTRA_CLANG_ARGS_x86_64_pc_windows_gnu="--sysroot=/usr/x86_64-w64-mingw32 -I/usr/x86_64-w64-mingw32/include -I$(x86_64-w64-mingw32-gcc -print-file-name=include)" \
+        install_fmi_sim "$fmi_sim_windows_root" --target x86_64-pc-windows-gnu
+    [ -f "$fmi_sim_windows_root/bin/fmi-sim.exe" ] ||
+        { echo "error: fmi-sim.exe was not installed" >&2; exit 1; }
+else
+    echo "fmi-sim for Windows: already built"
 fi
 export FMI_SIM="$fmi_sim_root/bin/fmi-sim"
-
-step "cross toolchains for the Windows and macOS libraries (tests/cross/setup.sh)"
-bash tests/cross/setup.sh
+export FMI_SIM_WINDOWS="$fmi_sim_windows_root/bin/fmi-sim.exe"
 
 step "cargo build --release (FMU library, importer, exporter, examples)"
 cargo build --release --workspace --lib --bins --examples
 
-# VIBROFRIC_PORTABLE=1 and --platforms all: the exporter must build the Linux library for
-# glibc 2.17, the Windows and the macOS ones (docs/platforms.md), so the tests below check the
-# binaries users get. The first time, each platform's build takes about as long as the host's.
-step "export dist/*.fmu for linux64 (glibc 2.17), win64 and darwin64, and self-check"
+# VIBROFRIC_PORTABLE=1 and --platforms all: the exporter must build the Linux libraries for
+# glibc 2.17 (x86-64 and aarch64), the Windows and the macOS ones (docs/platforms.md), so the
+# tests below check the binaries users get. The first time, each platform's build takes about as
+# long as the host's.
+step "export dist/*.fmu for linux64 (glibc 2.17), aarch64-linux, win64 and darwin64, and self-check"
 VIBROFRIC_PORTABLE=1 cargo run --release -- export --platforms all --check
 
 step "cargo test --release"
 cargo test --release
 
-step "the Windows library under Wine (tests/cross/test.sh)"
+step "the Windows library under Wine, the ARM Linux library under qemu (tests/cross/test.sh)"
 bash tests/cross/test.sh dist
 
 step "fmpy tests (tests/python)"

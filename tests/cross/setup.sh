@@ -1,18 +1,22 @@
 #!/usr/bin/env bash
-# Installs what the Windows and macOS builds of the FMU library and their tests need, on a
-# Debian/Ubuntu x86-64 machine; idempotent (a second run checks and changes nothing):
+# Installs what the Windows, macOS and ARM Linux builds of the FMU library and their tests need,
+# on a Debian/Ubuntu x86-64 machine; idempotent (a second run checks and changes nothing):
 #
-#   1. the Rust standard library of each target, with rustup:
-#      x86_64-pc-windows-gnu, x86_64-apple-darwin, aarch64-apple-darwin;
-#   2. Debian's mingw-w64 (the Windows linker) and Wine (runs the Windows tests);
-#   3. zig and cargo-zigbuild (link the glibc 2.17 and macOS libraries) into .venv, pinned in
+#   1. the Rust standard library of each target, with rustup: x86_64-pc-windows-gnu,
+#      x86_64-apple-darwin, aarch64-apple-darwin, aarch64-unknown-linux-gnu;
+#   2. Debian's mingw-w64 (the Windows linker), Wine (runs the Windows tests), qemu-user with
+#      Debian's arm64 C library (libc6-arm64-cross: runs the ARM Linux tests under
+#      `qemu-aarch64 -L /usr/aarch64-linux-gnu`), and libclang (bindgen, for building fmi-sim,
+#      tests/all.sh);
+#   3. zig and cargo-zigbuild (link the glibc 2.17, ARM Linux and macOS libraries) into .venv, pinned in
 #      tests/python/requirements-build.txt;
 #   4. a Wine prefix for the tests, with a test-only stand-in for bcryptprimitives.dll, which
 #      Wine 8 lacks (tests/cross/bcryptprimitives.c says why).
 #
 # Needs root (or sudo) for step 2 when the packages are missing; fails at the first step it
-# cannot do, saying what is missing and how to get it. Prints the environment the Windows tests
-# run in (tests/cross/env.sh sets it: Wine as cargo's runner for x86_64-pc-windows-gnu).
+# cannot do, saying what is missing and how to get it. Prints the environment the Windows and ARM
+# tests run in (tests/cross/env.sh sets it: Wine as cargo's runner for x86_64-pc-windows-gnu,
+# qemu-aarch64 for aarch64-unknown-linux-gnu).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -23,7 +27,7 @@ die() {
 }
 
 # 1. rustup targets.
-targets=(x86_64-pc-windows-gnu x86_64-apple-darwin aarch64-apple-darwin)
+targets=(x86_64-pc-windows-gnu x86_64-apple-darwin aarch64-apple-darwin aarch64-unknown-linux-gnu)
 command -v rustup >/dev/null 2>&1 ||
     die "rustup not found: the cross targets' standard libraries come from rustup (https://rustup.rs)"
 installed=$(rustup target list --installed)
@@ -36,22 +40,26 @@ for t in "${targets[@]}"; do
     fi
 done
 
-# 2. Debian packages: the mingw-w64 linker and Wine.
+# 2. Debian packages: the mingw-w64 linker, Wine, qemu-user with the arm64 C library, libclang.
 packages=()
 command -v x86_64-w64-mingw32-gcc >/dev/null 2>&1 || packages+=(gcc-mingw-w64-x86-64)
 command -v wine >/dev/null 2>&1 || packages+=(wine64 wine)
+command -v qemu-aarch64 >/dev/null 2>&1 || packages+=(qemu-user)
+[ -e /usr/aarch64-linux-gnu/lib/ld-linux-aarch64.so.1 ] || packages+=(libc6-arm64-cross)
+libs=$({ ldconfig -p || /sbin/ldconfig -p; } 2>/dev/null || true)
+grep -q 'libclang\(-[0-9.]*\)\?\.so ' <<<"$libs" || packages+=(libclang-dev)
 if [ "${#packages[@]}" -gt 0 ]; then
     sudo=()
     [ "$(id -u)" = 0 ] || sudo=(sudo)
     command -v apt-get >/dev/null 2>&1 ||
-        die "missing ${packages[*]} and no apt-get: install mingw-w64's x86_64 gcc and Wine with your package manager"
-    say "installing from Debian: ${packages[*]} (about 1 minute)"
+        die "missing ${packages[*]} and no apt-get: install mingw-w64's x86_64 gcc, Wine, qemu-user, an arm64 glibc (sysroot /usr/aarch64-linux-gnu) and libclang with your package manager"
+    say "installing from Debian: ${packages[*]} (about 1-2 minutes)"
     export DEBIAN_FRONTEND=noninteractive
     "${sudo[@]}" apt-get update -qq || die "apt-get update failed"
     "${sudo[@]}" apt-get install -y -qq "${packages[@]}" >/dev/null ||
         die "apt-get install ${packages[*]} failed"
 else
-    say "mingw-w64 $(x86_64-w64-mingw32-gcc -dumpversion) and $(wine --version 2>/dev/null): installed"
+    say "mingw-w64 $(x86_64-w64-mingw32-gcc -dumpversion), $(wine --version 2>/dev/null), $(qemu-aarch64 --version | head -1), the arm64 C library and libclang: installed"
 fi
 
 # 3. zig and cargo-zigbuild in .venv (tests/all.sh makes .venv with them; a user who only wants
@@ -85,3 +93,4 @@ else
     say "bcryptprimitives.dll stand-in: installed"
 fi
 say "ready: Windows tests run with CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER=$CARGO_TARGET_X86_64_PC_WINDOWS_GNU_RUNNER, WINEPREFIX=$WINEPREFIX"
+say "ready: ARM Linux tests run with CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER=\"$CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_RUNNER\""

@@ -158,27 +158,33 @@ def fmi_sim_exe():
     return pathlib.Path(exe) if exe else None
 
 
-def run_fmi_sim(fmu, h, n, tmp_path, extra=()):
-    """fmi-sim forwards the FMU's log lines through the `log` crate (RUST_LOG=info: "ERROR
-    [logger] ..." for the FMU's errors); the run must show none and exit 0."""
-    out = tmp_path / "fmi-sim.csv"
-    args = [
-        str(fmi_sim_exe()),
-        "--model", str(fmu),
-        "--output-file", str(out),
-        "co-simulation",
-        "--output-interval", repr(h),
-        "-s", "0",
-        "-f", repr(n * h),
-        *extra,
-    ]
+def fmi_sim_args(fmu, out, interface, h, stop):
+    """fmi-sim's command line after the executable: `interface` is co-simulation or
+    model-exchange, `h` the output interval (and Model Exchange's Euler step), from 0 to `stop`."""
+    return ["--model", str(fmu), "--output-file", str(out), interface,
+            "--output-interval", repr(h), "-s", "0", "-f", repr(stop)]
+
+
+def run_checked(args, env=None):
+    """Runs an fmi-sim command (RUST_LOG=info: the FMU's log lines come through the `log` crate,
+    "ERROR [logger] ..." for its errors); it must exit 0 and log no error or warning."""
     p = subprocess.run(args, capture_output=True, text=True, timeout=300,
-                       env=dict(os.environ, RUST_BACKTRACE="0", RUST_LOG="info"))
-    if extra:
-        return p
-    assert p.returncode == 0, f"{args}\n{p.stdout}\n{p.stderr}"
+                       env=dict(env or os.environ, RUST_BACKTRACE="0", RUST_LOG="info"))
+    assert p.returncode == 0, f"{args}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}"
     bad = [l for l in (p.stdout + p.stderr).splitlines() if "ERROR" in l or "WARN" in l]
     assert not bad, "\n".join(bad)
+    return p
+
+
+def run_fmi_sim(fmu, h, n, tmp_path, extra=()):
+    """fmi-sim's Co-Simulation of n steps of h; a run with `extra` arguments is returned as it
+    ended (the negative controls), any other must succeed without an error or warning."""
+    out = tmp_path / "fmi-sim.csv"
+    args = [str(fmi_sim_exe()), *fmi_sim_args(fmu, out, "co-simulation", h, n * h), *extra]
+    if extra:
+        return subprocess.run(args, capture_output=True, text=True, timeout=300,
+                              env=dict(os.environ, RUST_BACKTRACE="0", RUST_LOG="info"))
+    p = run_checked(args)
     rows = list(csv.reader(io.StringIO(out.read_text())))
     header = [c.strip() for c in rows[0]]
     data = np.array([[float(x) for x in r] for r in rows[1:] if r])
@@ -214,22 +220,43 @@ def run_fmi_sim_model_exchange(fmu, h, stop, tmp_path):
     located on the step grid. Returns the row at `stop` of every output (the last row: after
     the event handling there)."""
     out = tmp_path / "fmi-sim-me.csv"
-    args = [
-        str(fmi_sim_exe()),
-        "--model", str(fmu),
-        "--output-file", str(out),
-        "model-exchange",
-        "--output-interval", repr(h),
-        "-s", "0",
-        "-f", repr(stop),
-    ]
-    p = subprocess.run(args, capture_output=True, text=True, timeout=300,
-                       env=dict(os.environ, RUST_BACKTRACE="0", RUST_LOG="info"))
-    assert p.returncode == 0, f"{args}\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}"
-    bad = [l for l in (p.stdout + p.stderr).splitlines() if "ERROR" in l or "WARN" in l]
-    assert not bad, "\n".join(bad)
+    run_checked([str(fmi_sim_exe()), *fmi_sim_args(fmu, out, "model-exchange", h, stop)])
     rows = list(csv.reader(io.StringIO(out.read_text())))
     header = [c.strip() for c in rows[0]]
     data = np.array([[float(x) for x in r] for r in rows[1:] if r])
     assert abs(data[-1, header.index("time")] - stop) <= 1e-12, data[-1]
     return {name: data[-1, k] for k, name in enumerate(header)}
+
+
+def fmi_sim_windows_exe():
+    """fmi-sim built for Windows (x86_64-pc-windows-gnu): $FMI_SIM_WINDOWS (tests/all.sh sets
+    it), else the one tests/all.sh built into $VIBROFRIC_CACHE (default ~/.cache/vibrofric)."""
+    if os.environ.get("FMI_SIM_WINDOWS"):
+        return pathlib.Path(os.environ["FMI_SIM_WINDOWS"])
+    cache = pathlib.Path(os.environ.get("VIBROFRIC_CACHE", pathlib.Path.home() / ".cache" / "vibrofric"))
+    installed = sorted(cache.glob("fmi-sim-*-x86_64-pc-windows-gnu/bin/fmi-sim.exe"))
+    return installed[-1] if installed else None
+
+
+def wine_env():
+    """The environment tests/cross/env.sh sets for Wine (its prefix, made by
+    tests/cross/setup.sh), read from the script itself."""
+    root = pathlib.Path(__file__).resolve().parents[2]
+    p = subprocess.run(["bash", "-c", 'source tests/cross/env.sh && env -0'], cwd=root,
+                       capture_output=True, check=True)
+    return dict(kv.split("=", 1) for kv in p.stdout.decode().split("\0") if "=" in kv)
+
+
+def windows_path(path):
+    """The path Wine gives a Unix file on its drive Z: (the root of the Unix file system)."""
+    return "Z:" + str(pathlib.Path(path).resolve()).replace("/", "\\")
+
+
+def fmi_sim_csv_linux_and_windows(fmu, interface, h, stop, tmp_path, env):
+    """The CSV files (bytes) fmi-sim writes for one run on Linux and, built for Windows, under
+    Wine (given the FMU and the output file by their Windows paths on drive Z:)."""
+    linux, windows = tmp_path / "linux.csv", tmp_path / "windows.csv"
+    run_checked([str(fmi_sim_exe()), *fmi_sim_args(fmu, linux, interface, h, stop)])
+    args = fmi_sim_args(windows_path(fmu), windows_path(windows), interface, h, stop)
+    run_checked(["wine", str(fmi_sim_windows_exe()), *args], env=env)
+    return linux.read_bytes(), windows.read_bytes()

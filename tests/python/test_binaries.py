@@ -3,7 +3,8 @@ the exporter's (src/binary.rs reads them with the `object` crate; here pefile an
 code signature's page hashes with hashlib):
 
 - each FMI 2.0 FMU holds binaries/linux64, win64 and darwin64; each FMI 3.0 FMU x86_64-linux,
-  x86_64-windows, x86_64-darwin and aarch64-darwin;
+  aarch64-linux, x86_64-windows, x86_64-darwin and aarch64-darwin (the FMI 2.0 FMUs for ARM Linux,
+  in dist/aarch64-linux, are checked in test_platform.py);
 - every library exports every FMI function the Linux library exports (44 FMI 2.0 + 75 FMI 3.0);
 - the Windows DLL is a 64-bit DLL that imports only DLLs every Windows 10 has (no mingw run-time);
 - the macOS dylibs: x86_64 + arm64 in FMI 2.0's universal darwin64 file, one slice in each FMI 3.0
@@ -25,11 +26,11 @@ from macholib.MachO import MachO
 from macholib.SymbolTable import SymbolTable
 
 from conftest import DIST
-from test_platform import elf_sections
+from test_platform import ARM2, elf_sections
 
 FMI2 = {"linux64": "so", "win64": "dll", "darwin64": "dylib"}
-FMI3 = {"x86_64-linux": "so", "x86_64-windows": "dll", "x86_64-darwin": "dylib",
-        "aarch64-darwin": "dylib"}
+FMI3 = {"x86_64-linux": "so", "aarch64-linux": "so", "x86_64-windows": "dll",
+        "x86_64-darwin": "dylib", "aarch64-darwin": "dylib"}
 WINDOWS_SYSTEM_DLLS = {"kernel32.dll", "ntdll.dll", "msvcrt.dll", "userenv.dll", "ws2_32.dll",
                        "bcryptprimitives.dll", "advapi32.dll", "bcrypt.dll",
                        "api-ms-win-core-synch-l1-2-0.dll"}
@@ -131,6 +132,12 @@ def test_every_platform_is_inside_and_loadable_there(fmu, folders, tmp_path):
     linux = next(p for f, p in lib.items() if f.endswith("linux64") or f.endswith("-linux"))
     fmi = elf_fmi_exports(linux.read_bytes())
     assert len(fmi) == 44 + 75, len(fmi)
+    if folders is FMI2:  # the ARM Linux library of FMI 2.0 is in an FMU of its own
+        with zipfile.ZipFile(ARM2 / fmu.name) as z:
+            arm = z.read(f"binaries/linux64/{fmu.stem}.so")
+    else:
+        arm = lib["aarch64-linux"].read_bytes()
+    assert elf_fmi_exports(arm) == fmi, "the aarch64 library exports other FMI functions"
 
     windows = next(p for f, p in lib.items() if f in ("win64", "x86_64-windows"))
     exports, imports = pe_facts(windows.read_bytes())

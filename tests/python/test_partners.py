@@ -9,8 +9,11 @@ ecos (ecospy) and fmi-sim — and agrees with fmpy (see docs/interoperability.md
   few ulps, and the FMU takes every communication point within 256 ulps of a short decimal as
   that decimal (vibrofric::model canonical_time), so the results are in fact bit-identical.
 
+fmi-sim built for Windows runs under Wine every FMU as the Linux fmi-sim does, and writes the same
+CSV files byte for byte (test_fmi_sim_on_windows_writes_the_linux_csv_files).
+
 A partner that is not installed fails its tests unless VIBROFRIC_SKIP_PARTNERS names it
-(comma-separated: libcosim, ecos, fmi-sim); tests/all.sh installs all of them.
+(comma-separated: libcosim, ecos, fmi-sim, fmi-sim-windows); tests/all.sh installs all of them.
 """
 
 import os
@@ -29,6 +32,8 @@ IDENTIFIERS = [tomllib.loads(p.read_text())["model_identifier"] for p in SCENE_F
 # The grid: 0.1 ms (a fifth of the 2 kHz vibration period; 1e-4 is not a binary fraction, so
 # a master's t += h drifts), 300 steps = 60 vibration periods.
 H, N = 1e-4, 300
+# Model Exchange: fmi-sim's forward Euler with steps h and h/2 up to 2 ms.
+ME_STOP, ME_STEPS = 2e-3, (1e-6, 5e-7)
 
 SKIP = set(filter(None, os.environ.get("VIBROFRIC_SKIP_PARTNERS", "").split(",")))
 
@@ -44,8 +49,10 @@ def nominal(ident):
 def need(partner):
     if partner in SKIP:
         pytest.skip(f"{partner} left out by VIBROFRIC_SKIP_PARTNERS")
-    if partner == "fmi-sim" and partners.fmi_sim_exe() is None:
+    if partner in ("fmi-sim", "fmi-sim-windows") and partners.fmi_sim_exe() is None:
         pytest.fail("fmi-sim is not installed (tests/all.sh installs it; or set FMI_SIM)")
+    if partner == "fmi-sim-windows" and partners.fmi_sim_windows_exe() is None:
+        pytest.fail("fmi-sim for Windows is not built (tests/all.sh builds it; or set FMI_SIM_WINDOWS)")
 
 
 def check(partner, ident, times, values, grid):
@@ -116,7 +123,7 @@ def test_fmi_sim_model_exchange_converges_to_co_simulation_with_first_order(iden
     need("fmi-sim")
     from fmpy import simulate_fmu
 
-    stop, h = 2e-3, 1e-6
+    stop, h = ME_STOP, ME_STEPS[0]
     fmu = fmu_path(ident)
     names = ["x", "v_x", "s_x"]
     ref = simulate_fmu(fmu, stop_time=stop, output_interval=1e-4, relative_tolerance=1e-10,
@@ -137,6 +144,37 @@ def test_fmi_sim_model_exchange_converges_to_co_simulation_with_first_order(iden
     fmu3 = pathlib.Path(fmu).parent / "fmi3" / f"{ident}.fmu"
     fine3 = partners.run_fmi_sim_model_exchange(str(fmu3), h / 2, stop, tmp_path)
     assert fine3 == fine, ident
+
+
+@pytest.mark.parametrize("ident", IDENTIFIERS)
+def test_fmi_sim_on_windows_writes_the_linux_csv_files(ident, tmp_path):
+    """fmi-sim 0.7.0 built for Windows (x86_64-pc-windows-gnu), run by Wine in the prefix of
+    tests/cross/setup.sh, imports each FMU its own way: its unzip into Windows' Temp, its platform
+    choice (binaries/win64, binaries/x86_64-windows), its resource URI (file:///Z:/...), its
+    LoadLibrary. Both editions, Co-Simulation at the grid above and Model Exchange at the Model
+    Exchange test's Euler steps: each CSV file is the Linux fmi-sim's byte for byte."""
+    need("fmi-sim-windows")
+    fmu2 = pathlib.Path(fmu_path(ident))
+    fmu3 = fmu2.parent / "fmi3" / fmu2.name
+    env = partners.wine_env()
+    runs = [(fmu, "co-simulation", H, N * H) for fmu in (fmu2, fmu3)]
+    runs += [(fmu, "model-exchange", h, ME_STOP) for fmu in (fmu2, fmu3) for h in ME_STEPS]
+    points = values = 0
+    for fmu, interface, h, stop in runs:
+        linux, windows = partners.fmi_sim_csv_linux_and_windows(fmu, interface, h, stop,
+                                                                tmp_path, env)
+        rows = [r.split(",") for r in linux.decode().splitlines()[1:] if r]
+        # Every grid point from 0 to stop (Model Exchange adds a row at each event it handles).
+        assert len(rows) >= round(stop / h) + 1 and float(rows[-1][0]) == pytest.approx(stop), len(rows)
+        if windows != linux:
+            w, lx = windows.splitlines(), linux.splitlines()
+            k = next((k for k, p in enumerate(zip(w, lx)) if p[0] != p[1]), min(len(w), len(lx)))
+            pytest.fail(f"{fmu} {interface} h = {h}: Windows fmi-sim's CSV differs from Linux "
+                        f"fmi-sim's at line {k} of {len(lx)}: {w[k:k + 1]} against {lx[k:k + 1]}")
+        points += len(rows)
+        values += sum(len(r) - 1 for r in rows)
+    print(f"WINDOWS-FMI-SIM {ident}: {len(runs)} runs, {points} points, {values} values: "
+          "Windows (Wine) = Linux, byte for byte")
 
 
 def test_ecos_errors_are_seen_through_the_log_with_its_full_path_instance_name(capfd):

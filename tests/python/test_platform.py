@@ -1,6 +1,9 @@
 """The shipped binaries load on old Linux systems: every dist/*.fmu's linux64 library needs at most
 glibc 2.17 (RHEL 7, Ubuntu 18.04 and newer) and no library beyond glibc's own, and it loads and
-runs through fmpy.
+runs through fmpy. The same holds for the ARM Linux library (aarch64 code): in every FMI 3.0 FMU's
+binaries/aarch64-linux and in binaries/linux64 of the FMI 2.0 FMUs of dist/aarch64-linux (the
+folder fmpy, the FMI Library and rust-fmi load on ARM Linux), the same file in both; it runs under
+qemu in tests/cross/test.sh.
 
 The versions are read from the ELF file here, by a reader written in Python independently of the
 exporter's (src/elf.rs): the dynamic section's DT_NEEDED entries and the version needs of
@@ -18,7 +21,17 @@ from conftest import DIST
 MAX_GLIBC = (2, 17)
 # glibc's own libraries (and the dynamic loader); anything else would have to be on the target.
 GLIBC_LIBRARIES = {"libc.so.6", "libm.so.6", "libpthread.so.0", "libdl.so.2", "librt.so.1",
-                   "ld-linux-x86-64.so.2", "libgcc_s.so.1"}
+                   "libgcc_s.so.1"}
+# The dynamic loader of each processor, and its ELF e_machine.
+LOADER = {"x86_64": "ld-linux-x86-64.so.2", "aarch64": "ld-linux-aarch64.so.1"}
+EM = {62: "x86_64", 183: "aarch64"}
+
+
+def elf_machine(data):
+    """The processor an ELF file's code is for (e_machine)."""
+    assert data[:4] == b"\x7fELF", "not ELF"
+    machine, = struct.unpack_from("<H", data, 0x12)
+    return EM.get(machine, f"e_machine {machine}")
 
 
 def elf_sections(data):
@@ -73,6 +86,24 @@ def glibc_version(name):
 
 
 FMUS = sorted(DIST.glob("*.fmu"))
+ARM2 = DIST / "aarch64-linux"
+
+
+def check_linux_library(name, so, arch):
+    """An ELF library for `arch`: at most glibc 2.17, glibc's libraries only, no private symbol."""
+    assert elf_machine(so) == arch, (name, elf_machine(so))
+    needed, versions = elf_needs(so)
+    glibc = sorted((glibc_version(v) for v in versions
+                    if v.startswith("GLIBC_") and v[6].isdigit()))
+    assert glibc, "no GLIBC_ version needs: not a dynamically linked glibc library?"
+    highest = ".".join(map(str, glibc[-1]))
+    print(f"{name} ({arch}): highest GLIBC_{highest}; needs {sorted(needed)}")
+    assert glibc[-1] <= MAX_GLIBC, (
+        f"{name} needs GLIBC_{highest} > 2.17: export with cargo-zigbuild available "
+        "(tests/all.sh installs it into .venv; VIBROFRIC_PORTABLE=1 makes the exporter insist)")
+    allowed = GLIBC_LIBRARIES | {LOADER[arch]}
+    assert set(needed) <= allowed, set(needed) - allowed
+    assert not any(v.startswith("GLIBC_PRIVATE") for v in versions)
 
 
 def test_dist_has_the_fmus():
@@ -83,18 +114,26 @@ def test_dist_has_the_fmus():
 def test_binary_needs_at_most_glibc_2_17_and_loads(fmu, tmp_path):
     with zipfile.ZipFile(fmu) as z:
         so = z.read(f"binaries/linux64/{fmu.stem}.so")
-    needed, versions = elf_needs(so)
-    glibc = sorted((glibc_version(v) for v in versions
-                    if v.startswith("GLIBC_") and v[6].isdigit()))
-    assert glibc, "no GLIBC_ version needs: not a dynamically linked glibc library?"
-    highest = ".".join(map(str, glibc[-1]))
-    print(f"{fmu.name}: highest GLIBC_{highest}; needs {sorted(needed)}")
-    assert glibc[-1] <= MAX_GLIBC, (
-        f"{fmu.name} needs GLIBC_{highest} > 2.17: export with cargo-zigbuild available "
-        "(tests/all.sh installs it into .venv; VIBROFRIC_PORTABLE=1 makes the exporter insist)")
-    assert set(needed) <= GLIBC_LIBRARIES, set(needed) - GLIBC_LIBRARIES
-    assert not any(v.startswith("GLIBC_PRIVATE") for v in versions)
+    check_linux_library(fmu.name, so, "x86_64")
     # and this very binary loads and runs
     res = simulate_fmu(str(fmu), stop_time=0.01, output_interval=1e-3, output=["F_mean"])
     assert len(res) == 11
     assert res["F_mean"][-1] == res["F_mean"][-1]  # finite, not NaN
+
+
+@pytest.mark.parametrize("fmu", FMUS, ids=[f.stem for f in FMUS])
+def test_arm_linux_library_needs_at_most_glibc_2_17_in_both_editions(fmu):
+    """FMI 3.0: binaries/aarch64-linux; FMI 2.0: an FMU of its own in dist/aarch64-linux holding
+    only binaries/linux64 (fmpy's FMI 2.0 folder on ARM Linux, where the standard FMU has the
+    x86-64 library), with the same model description and the same library."""
+    with zipfile.ZipFile(DIST / "fmi3" / fmu.name) as z:
+        so3 = z.read(f"binaries/aarch64-linux/{fmu.stem}.so")
+    check_linux_library(f"fmi3/{fmu.name}", so3, "aarch64")
+    arm2 = ARM2 / fmu.name
+    assert arm2.exists(), f"{arm2} missing: export with --platforms all (or aarch64-linux)"
+    with zipfile.ZipFile(arm2) as z, zipfile.ZipFile(fmu) as main:
+        binaries = [n for n in z.namelist() if n.startswith("binaries/") and not n.endswith("/")]
+        assert binaries == [f"binaries/linux64/{fmu.stem}.so"], binaries
+        assert z.read(binaries[0]) == so3
+        assert z.read("modelDescription.xml") == main.read("modelDescription.xml")
+        assert elf_machine(main.read(binaries[0])) == "x86_64"

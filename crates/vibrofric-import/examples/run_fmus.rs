@@ -3,7 +3,11 @@
 //! the bits of its `f64`: the same program built for Linux and for Windows (run under Wine) must
 //! print the same text (`tests/cross/test.sh` compares them).
 //!
-//! `cargo run --release -p vibrofric-import --example run_fmus -- dist`
+//! `cargo run --release -p vibrofric-import --example run_fmus -- dist [FMI3_DIR]`
+//!
+//! The FMI 3.0 editions are looked for in `FMI3_DIR`, by default `dist/fmi3`: on ARM Linux the
+//! FMI 2.0 FMUs are those of `dist/aarch64-linux` (their `linux64` holds the aarch64 library) and
+//! the FMI 3.0 ones those of `dist/fmi3` (`tests/cross/test.sh` runs it so under qemu).
 //!
 //! Each FMU runs its default experiment from its scene's start values (0.1 s, communication step
 //! 1 ms) with every output read at every point, twice: the second time with 0.37 ms steps and, where the FMU has them, the inputs `F_d`
@@ -25,7 +29,7 @@ fn print_rows(label: &str, rows: &[Vec<f64>]) {
     }
 }
 
-fn run(dir: &Path) -> Result<usize, String> {
+fn run(dir: &Path, dir3: &Path) -> Result<usize, String> {
     let mut n = 0;
     for path in vibrofric_import::fmus_in(dir)? {
         let fmu = Fmu::load(&path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -51,7 +55,7 @@ fn run(dir: &Path) -> Result<usize, String> {
                 .map_err(|e| format!("{id} (FMI 2.0): {e}"))?;
             print_rows(&format!("{id} fmi2 h={step}"), &rows);
         }
-        let path3 = dir.join("fmi3").join(path.file_name().unwrap_or_default());
+        let path3 = dir3.join(path.file_name().unwrap_or_default());
         if path3.is_file() {
             let fmu3 = Fmu3::load(&path3).map_err(|e| format!("{}: {e}", path3.display()))?;
             let rows = fmu3
@@ -67,14 +71,18 @@ fn run(dir: &Path) -> Result<usize, String> {
 
 fn main() -> ExitCode {
     let dir = std::env::args().nth(1).unwrap_or_else(|| "dist".into());
-    match run(Path::new(&dir)) {
+    let dir3 = std::env::args()
+        .nth(2)
+        .map_or_else(|| Path::new(&dir).join("fmi3"), Into::into);
+    match run(Path::new(&dir), &dir3) {
         Ok(0) => {
             eprintln!("run_fmus: no *.fmu in {dir}");
             ExitCode::FAILURE
         }
         Ok(n) => {
             eprintln!(
-                "run_fmus: {n} FMUs co-simulated on {}",
+                "run_fmus: {n} FMUs co-simulated on {} {}",
+                std::env::consts::ARCH,
                 std::env::consts::OS
             );
             ExitCode::SUCCESS

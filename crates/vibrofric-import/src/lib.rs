@@ -193,7 +193,9 @@ functions! {
     fmi2GetNominalsOfContinuousStates: fn(fmi2Component, *mut fmi2Real, usize) -> fmi2Status;
 }
 
-/// The platform folder of `binaries/` and the shared library suffix (FMI 2.0 names).
+/// The platform folder of `binaries/` and the shared library suffix (FMI 2.0 names). FMI 2.0 has
+/// no name for ARM: on 64-bit ARM Linux this is `linux64`, as fmpy, the FMI Library and rust-fmi
+/// choose there.
 pub fn platform() -> (&'static str, &'static str) {
     if cfg!(target_os = "windows") {
         (
