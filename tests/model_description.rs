@@ -743,7 +743,7 @@ fn exporter_writes_a_complete_fmu() {
     let stderr = String::from_utf8_lossy(&run.stderr);
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(
-        stdout.contains("platforms in each FMU: linux64\n"),
+        stdout.contains("platforms in each FMU: FMI 3.0 linux64; FMI 2.0 linux64\n"),
         "{stdout}"
     );
     // The cdylib is built with the tests (the harness loads it too): its absence is a failure,
