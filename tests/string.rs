@@ -198,12 +198,10 @@ fn run_string(pipe: &Pipe, tol: f64, h: f64, t_end: f64) -> Vec<(Vec<f64>, Vec<f
     let mut sim = fed_string(pipe, tol);
     let steps = (t_end / h).round() as usize;
     let mut out = Vec::new();
-    let mut last_tool = None;
     for c in 0..steps {
         let t0 = c as f64 * h;
         let (i_tool, f_tool) = pipe.tool(t0);
         sim.set_input(StringInput::Fd(i_tool), f_tool).unwrap();
-        last_tool = Some(i_tool);
         sim.step_to((c + 1) as f64 * h).unwrap();
         let o = sim.outputs();
         let y: Vec<f64> = (0..pipe.n)
@@ -214,7 +212,6 @@ fn run_string(pipe: &Pipe, tol: f64, h: f64, t_end: f64) -> Vec<(Vec<f64>, Vec<f
         means.push(o.f_bottom_step);
         out.push((y, means));
     }
-    assert!(last_tool.is_some());
     out
 }
 
@@ -348,7 +345,6 @@ fn a_frictionless_string_moves_its_centre_of_mass_in_closed_form() {
         harmonic: false,
         normal_input: false,
     };
-    let total: f64 = params.m.iter().sum();
     let mut sim = build_string(config, params.clone(), 0.0, 1e-6).unwrap();
     let f = 1e4;
     sim.set_input(StringInput::Fd(0), f).unwrap();
@@ -362,20 +358,10 @@ fn a_frictionless_string_moves_its_centre_of_mass_in_closed_form() {
             (moment - exact).abs() < 1e-6 * exact,
             "t {t}: {moment} against {exact}"
         );
-        // The links ring: the first section is ahead of the mean.
+        // The links ring (they carry force), and no section has friction.
         if k == 20 {
             assert!(o.f_link.iter().any(|&l| l.abs() > 1.0), "{:?}", o.f_link);
             assert_eq!(o.f_fx, vec![0.0; n]);
-            assert!(
-                (moment / total
-                    - o.x
-                        .iter()
-                        .zip(&params.m)
-                        .map(|(x, m)| m * x / total)
-                        .sum::<f64>())
-                .abs()
-                    < 1e-12
-            );
         }
     }
 }
