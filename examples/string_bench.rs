@@ -4,8 +4,9 @@
 //! spring–dashpot on the rock, an oscillation tool of 20 kN at 15 Hz at 3/4 of the length, in
 //! communication steps of 1 ms at tolerance 1e-6, from rest.
 //!
-//! `cargo run --release --example string_bench [-- SECONDS]` prints, per N: CPU time per
-//! simulated second, per section and step, the integrator's steps, and the weight on bit.
+//! `cargo run --release --example string_bench [-- SECONDS [N,N,...] [TOL]]` prints,
+//! per N: CPU time per simulated second, per section and step, the string's steps, the
+//! sections' own steps (multirate), and the weight on bit.
 
 use cpu_time::ThreadTime;
 use vibrofric::model::string::{build_string, StringConfig, StringInput, StringParams};
@@ -16,15 +17,23 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(1.0);
-    let (h, tol) = (1e-3, 1e-6);
+    let sizes: Vec<usize> = std::env::args()
+        .nth(2)
+        .map(|a| a.split(',').filter_map(|v| v.parse().ok()).collect())
+        .unwrap_or_else(|| vec![1, 10, 20, 100, 1000]);
+    let h = 1e-3;
+    let tol: f64 = std::env::args()
+        .nth(3)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(1e-6);
     println!(
         "string of LuGre sections, tool 20 kN at 15 Hz, {seconds} s in steps of {h} s, tol {tol:e}"
     );
     println!(
-        "{:>6} {:>12} {:>14} {:>12} {:>10} {:>12}",
-        "N", "CPU s / s", "µs / sec·step", "steps / s", "rejected", "WOB (N)"
+        "{:>6} {:>12} {:>14} {:>12} {:>10} {:>16} {:>12}",
+        "N", "CPU s / s", "µs / sec·step", "steps / s", "rejected", "sec. steps / s", "WOB (N)"
     );
-    for &n in &[1usize, 10, 20, 100, 1000] {
+    for &n in &sizes {
         let mut shared = Params {
             m: 267.0,
             f_n: 2280.0,
@@ -62,12 +71,13 @@ fn main() {
         let cpu = clock.elapsed().as_secs_f64();
         let st = sim.stats();
         println!(
-            "{:>6} {:>12.4} {:>14.3} {:>12.0} {:>10} {:>12.1}",
+            "{:>6} {:>12.4} {:>14.3} {:>12.0} {:>10} {:>16.0} {:>12.1}",
             n,
             cpu / seconds,
             cpu / (n as f64 * steps as f64) * 1e6,
             st.steps as f64 / seconds,
             st.rejected,
+            sim.section_steps() as f64 / seconds,
             wob
         );
     }

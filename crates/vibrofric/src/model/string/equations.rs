@@ -70,6 +70,20 @@ impl StringInputs {
     pub fn x_bottom(&self, t: f64) -> f64 {
         self.x_bottom_ref + self.v_bottom.integral(t)
     }
+
+    /// `∫ x_top dt` and `∫ x_bottom dt` from `t0` to `t1`, exactly (each point's position is
+    /// quadratic in time between changes of its track).
+    pub fn end_position_integrals(&self, t0: f64, t1: f64) -> (f64, f64) {
+        let twice = |tr: &InputTrack, t: f64| {
+            let d = t - tr.t_ref;
+            d * d * (0.5 * tr.value + tr.slope * d / 6.0)
+        };
+        let h = t1 - t0;
+        (
+            self.x_top_ref * h + twice(&self.v_top, t1) - twice(&self.v_top, t0),
+            self.x_bottom_ref * h + twice(&self.v_bottom, t1) - twice(&self.v_bottom, t0),
+        )
+    }
 }
 
 /// One section's contact: its law at its load (rebuilt from the load input where it is one) and
@@ -239,33 +253,54 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
         }
     }
 
-    /// The velocity and the deformation to their natural scales plus their magnitudes; the
-    /// positions nearly absolutely (the links feel their differences, not the distance
-    /// travelled: a millionth of `|x|`), to the larger of the deformation scale and what the
-    /// velocity's scale is in position over the section's fastest time constant `sqrt(m/k)`
-    /// (`k` the contact's and links' stiffness together).
+    /// The velocity and the deformation to their natural scales plus their magnitudes; a
+    /// position to what moves the forces of the springs that hold the section (its links and
+    /// end elements) by the section's Coulomb force plus their magnitude (a position matters
+    /// only through the springs it stretches: the links feel differences of positions, not the
+    /// distance travelled), and at least to the deformation scale and what the velocity's
+    /// scale is in position over the section's fastest time constant `sqrt(m/k)` (`k` the
+    /// contact's and links' stiffness together).
     fn error_scale(&self, y: &[f64], out: &mut [f64]) {
         let u0 = self.harmonic.map_or(0.0, |h| h.u0);
         let v_a = self.harmonic.map_or(0.0, |h| h.v_a());
         let n = self.n();
         let l = &self.links;
+        let ends = self.ends(self.inputs.v_top.t_ref, y);
+        // (stiffness, |force|) of the spring on each side of the section.
+        let mut left = (l.k_top, ends.top.abs());
         for (i, sec) in self.sections.iter().enumerate() {
             let k = PER_SECTION * i;
+            let right = if i + 1 < n {
+                (l.k_s[i], self.link(i, y).abs())
+            } else {
+                (l.k_bottom, ends.bottom.abs())
+            };
             let s_nom = sec.law.s_scale();
             let v_nom = v_a
                 .max(s_nom * (sec.params.k_t / sec.params.m).sqrt())
                 .max(1e-9);
-            let mut stiffness = sec.params.k_t;
-            if i > 0 {
-                stiffness += l.k_s[i - 1];
+            let omega = ((sec.params.k_t + left.0 + right.0) * sec.inv_m).sqrt();
+            let mut x_scale = s_nom.max(u0).max(v_nom / omega);
+            let k_spring = left.0.max(right.0);
+            if k_spring > 0.0 {
+                let f_c = sec.params.f_c();
+                x_scale = x_scale.max((f_c + left.1.max(right.1)) / k_spring);
             }
-            if i + 1 < n {
-                stiffness += l.k_s[i];
-            }
-            let omega = (stiffness * sec.inv_m).sqrt();
-            out[k] = s_nom.max(u0).max(v_nom / omega) + 1e-6 * y[k].abs();
+            out[k] = x_scale;
             out[k + 1] = v_nom + y[k + 1].abs();
             out[k + 2] = s_nom + y[k + 2].abs();
+            left = right;
         }
+    }
+
+    /// A section (position, velocity, deformation) is a block: where its own error fails in a
+    /// step it is integrated again alone (`refine.rs`).
+    fn block(&self) -> usize {
+        PER_SECTION
+    }
+
+    /// A quarter of the sections, at least one.
+    fn max_refined(&self) -> usize {
+        (self.n() / 4).max(1)
     }
 }

@@ -3,20 +3,25 @@
 //! the borehole wall). A room of its own: its state is the whole string's, integrated together by
 //! Radau IIA on the banded Jacobian of the chain ([`crate::solver::band`]), so that one call
 //! advances every section and the stiff links and ends are resolved inside the step, at the
-//! contact's tolerance, whatever the communication step.
+//! contact's tolerance, whatever the communication step. Each section's error is held to the
+//! tolerance on its own; a section whose error fails in a step (a reversal, its contact damping
+//! switching) is integrated again alone over that step with its neighbours on the string's
+//! step, so that its transient costs its own short steps, not the whole string's.
 //!
 //! - `equations.rs`: the right-hand side, its banded Jacobian and the forces;
+//! - `refine.rs`: a section integrated again alone;
 //! - this file: parameters and their rules, inputs, stepping to communication points with the
 //!   step means of the friction and end forces (the collocation quadrature of each accepted
 //!   step), outputs.
 
 mod equations;
+mod refine;
 
 pub use equations::{Links, Section, StringInputs, StringModel, PER_SECTION};
 
 use crate::physics::{Dahl, Dupont, FrictionLaw, Harmonic, InputTrack, LuGre};
-use crate::solver::band::{BandRadau, BandWork};
-use crate::solver::{B, C};
+use crate::solver::band::{Accepted, BandRadau, BandSystem, BandWork};
+use crate::solver::{SolverError, SolverStats, Workspace, B, C};
 use crate::table::{number, InputId, Law, ParamId, Params};
 
 use super::simulator::{SimError, StepStats, TOLERANCE_RANGE};
@@ -232,7 +237,13 @@ pub trait StringSimulator: Send {
     /// Integrates exactly to `t_end`.
     fn step_to(&mut self, t_end: f64) -> Result<(), SimError>;
     fn outputs(&self) -> StringOutputs;
+    /// The string's steps (`steps`, `rejected`), and every integrator's work (right-hand
+    /// sides, Jacobians, located events).
     fn stats(&self) -> StepStats;
+    /// The steps (accepted and rejected) of the sections integrated again alone.
+    fn section_steps(&self) -> u64 {
+        0
+    }
     fn clone_box(&self) -> Box<dyn StringSimulator>;
 }
 
@@ -273,6 +284,14 @@ struct StringSim<L> {
     integrals: Vec<f64>,
     /// The means over the last completed communication step, laid out as `integrals`.
     means: Vec<f64>,
+    /// Each component's natural scale (the error scale at rest), for the sections integrated
+    /// again alone.
+    nominal: Vec<f64>,
+    /// The work of the sections integrated again, and their integrator's scratch space.
+    refined: SolverStats,
+    work3: Workspace,
+    /// Scratch: the string's error scale at a step's start.
+    scratch: Vec<f64>,
 }
 
 impl<L: FrictionLaw> StringSim<L> {
@@ -306,7 +325,13 @@ impl<L: FrictionLaw> StringSim<L> {
             work: BandWork::new(PER_SECTION * n, 4, 3),
             integrals: vec![0.0; n + 2],
             means: vec![0.0; n + 2],
+            nominal: vec![0.0; PER_SECTION * n],
+            refined: SolverStats::default(),
+            work3: Workspace::new(PER_SECTION),
+            scratch: vec![0.0; PER_SECTION * n],
         };
+        let zero = vec![0.0; PER_SECTION * n];
+        sim.model.error_scale(&zero, &mut sim.nominal);
         // Before the first step the step means are the instantaneous forces.
         sim.means = sim.instantaneous();
         sim
@@ -360,6 +385,95 @@ impl<L: FrictionLaw> StringSim<L> {
             tr.hold_from(t);
         }
     }
+}
+
+/// Takes an accepted step of the string: integrates again alone the sections whose own error
+/// failed (`refine.rs`), their neighbours on the step, and adds the step's integrals of every
+/// section's friction and of the end forces (the collocation quadrature of the step, the
+/// sections' own integrals where they were integrated again).
+#[allow(clippy::too_many_arguments)]
+fn accept_step<L: FrictionLaw>(
+    model: &StringModel<L>,
+    step: Accepted<'_>,
+    integrals: &mut [f64],
+    nominal: &[f64],
+    scratch: &mut [f64],
+    tol: f64,
+    work3: &mut Workspace,
+    stats: &mut SolverStats,
+) -> Result<(), SolverError> {
+    let n = model.n();
+    let (t, h) = (step.t, step.h);
+    // The sections integrated again: their friction and position integrals, their new state.
+    let mut own: Vec<(usize, f64, f64)> = Vec::with_capacity(step.refine.len());
+    if !step.refine.is_empty() {
+        model.error_scale(step.y0, scratch);
+    }
+    for &i in step.refine {
+        let x_scale = scratch[PER_SECTION * i];
+        let r = refine::refine(
+            model,
+            i,
+            t,
+            step.t1,
+            step.y0,
+            step.stages,
+            nominal,
+            x_scale,
+            tol,
+            work3,
+        )?;
+        stats.steps += r.stats.steps;
+        stats.rejected += r.stats.rejected;
+        stats.rhs_evals += r.stats.rhs_evals;
+        stats.jacobians += r.stats.jacobians;
+        stats.events += r.stats.events;
+        own.push((i, r.friction, r.position));
+        let k = PER_SECTION * i;
+        step.stages[2][k..k + PER_SECTION].copy_from_slice(&r.y);
+    }
+    let stages = &*step.stages;
+    let mut next = own.iter().peekable();
+    for (i, integral) in integrals[..n].iter_mut().enumerate() {
+        if let Some(&&(j, friction, _)) = next.peek() {
+            if j == i {
+                *integral += friction;
+                next.next();
+                continue;
+            }
+        }
+        let (kv, ks) = (PER_SECTION * i + 1, PER_SECTION * i + 2);
+        for (k, y) in stages.iter().enumerate() {
+            *integral += B[k] * h * model.contact(i, t + C[k] * h, y[kv], y[ks]).1;
+        }
+    }
+    // The end forces: by the collocation quadrature, or from the position integral of an end
+    // section integrated again (the ends' points in closed form).
+    let own_position = |i: usize| own.iter().find(|o| o.0 == i).map(|o| o.2);
+    let (l, inp) = (&model.links, &model.inputs);
+    let last = PER_SECTION * (n - 1);
+    let (x_top_int, x_bottom_int) = inp.end_position_integrals(t, step.t1);
+    integrals[n] += match own_position(0) {
+        Some(x_int) => {
+            l.k_top * (x_top_int - x_int)
+                + l.c_top * ((inp.x_top(step.t1) - inp.x_top(t)) - (stages[2][0] - step.y0[0]))
+        }
+        None => (0..3)
+            .map(|k| B[k] * h * model.ends(t + C[k] * h, &stages[k]).top)
+            .sum(),
+    };
+    integrals[n + 1] += match own_position(n - 1) {
+        Some(x_int) => {
+            l.k_bottom * (x_int - x_bottom_int)
+                + l.c_bottom
+                    * ((stages[2][last] - step.y0[last])
+                        - (inp.x_bottom(step.t1) - inp.x_bottom(t)))
+        }
+        None => (0..3)
+            .map(|k| B[k] * h * model.ends(t + C[k] * h, &stages[k]).bottom)
+            .sum(),
+    };
+    Ok(())
 }
 
 impl<L: FrictionLaw> StringSimulator for StringSim<L> {
@@ -423,27 +537,20 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
                 target: t_end,
             });
         }
-        let saved = self.radau.clone();
-        let n = self.model.n();
+        let saved = (self.radau.clone(), self.refined);
         let model = &self.model;
         let integrals = &mut self.integrals;
         integrals.fill(0.0);
-        let result = self
-            .radau
-            .integrate(model, &mut self.work, t_end, |t, h, stages| {
-                for (k, y) in stages.iter().enumerate() {
-                    let (tk, w) = (t + C[k] * h, B[k] * h);
-                    for i in 0..n {
-                        let (v, s) = (y[PER_SECTION * i + 1], y[PER_SECTION * i + 2]);
-                        integrals[i] += w * model.contact(i, tk, v, s).1;
-                    }
-                    let ends = model.ends(tk, y);
-                    integrals[n] += w * ends.top;
-                    integrals[n + 1] += w * ends.bottom;
-                }
-            });
+        let (nominal, work3, refined) = (&self.nominal, &mut self.work3, &mut self.refined);
+        let scratch = &mut self.scratch;
+        let tol = self.radau.tolerance();
+        let result = self.radau.integrate(model, &mut self.work, t_end, |step| {
+            accept_step(
+                model, step, integrals, nominal, scratch, tol, work3, refined,
+            )
+        });
         if let Err(e) = result {
-            self.radau = saved;
+            (self.radau, self.refined) = saved;
             return Err(SimError::Solver(e));
         }
         let span = t_end - t0;
@@ -488,7 +595,15 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
     }
 
     fn stats(&self) -> StepStats {
-        self.radau.stats.into()
+        let mut s: StepStats = self.radau.stats.into();
+        s.rhs_evals += self.refined.rhs_evals;
+        s.jacobians += self.refined.jacobians;
+        s.events += self.refined.events;
+        s
+    }
+
+    fn section_steps(&self) -> u64 {
+        self.refined.steps + self.refined.rejected
     }
 
     fn clone_box(&self) -> Box<dyn StringSimulator> {

@@ -6,4 +6,4 @@ mod lu;
 mod radau;
 
 pub use lu::{Band, BandLu};
-pub use radau::{BandRadau, BandSystem, BandWork};
+pub use radau::{Accepted, BandRadau, BandSystem, BandWork};

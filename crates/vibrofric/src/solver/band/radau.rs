@@ -9,11 +9,16 @@
 //! - the error estimate of the embedded formula and Gustafsson's predictive step size, as in
 //!   RADAU5;
 //! - landing exactly on the requested end time, and every accepted step's stages handed to the
-//!   caller, whose quadratures (step means of forces) then have the collocation's order.
+//!   caller, whose quadratures (step means of forces) then have the collocation's order;
+//! - blocks (the bodies of a chain, [`BandSystem::block`]): each block's error is held to the
+//!   tolerance on its own, and where it fails in a few blocks only, the step is accepted for
+//!   the others and those blocks are handed to the caller to integrate again alone (the
+//!   multirate strategy of Savcenco, Hundsdorfer and Verwer, BIT 47, 2007). A body with a fast
+//!   transient of its own then costs its own short steps, not the whole chain's.
 //!
 //! Kinks of the right-hand side (the relative velocity of a contact through zero) are not
-//! located: the error control steps over them, which with a chain of many contacts (each with
-//! kinks of its own) costs less than ending a step at every one.
+//! located here: the error control steps over them, or the caller's integration of a block
+//! locates them.
 
 use nalgebra::Complex;
 
@@ -35,6 +40,31 @@ pub trait BandSystem {
     /// component's error is relative (positions along a string are not: the links feel their
     /// differences, whatever the distance travelled).
     fn error_scale(&self, y: &[f64], out: &mut [f64]);
+    /// Components per block (a body of a chain) whose error the caller can take over alone: a
+    /// step whose error fails only in a few blocks is accepted for the others, and the caller
+    /// integrates those blocks again over the step in its `on_step` (0: no blocks, the error
+    /// of every component is the step's).
+    fn block(&self) -> usize {
+        0
+    }
+    /// The most blocks the caller takes over in one step; beyond, the step is rejected.
+    fn max_refined(&self) -> usize {
+        0
+    }
+}
+
+/// What an accepted step hands to the caller.
+pub struct Accepted<'a> {
+    pub t: f64,
+    pub h: f64,
+    /// The step's end (`t + h` up to rounding; exactly the requested end on the last step).
+    pub t1: f64,
+    /// The state at the step's start.
+    pub y0: &'a [f64],
+    /// The stages `y(t + C[i]·h)`; the caller replaces the blocks it takes over in the last.
+    pub stages: &'a mut [Vec<f64>; 3],
+    /// The blocks whose own error failed, for the caller to integrate again (ascending).
+    pub refine: &'a [usize],
 }
 
 /// Most Newton iterations per attempt.
@@ -88,6 +118,8 @@ pub struct BandWork {
     tmp: Vec<f64>,
     /// The stages `y + z_i` of the step handed to the caller.
     pub stages: [Vec<f64>; 3],
+    /// The blocks of the attempted step whose own error failed.
+    refine: Vec<usize>,
 }
 
 impl BandWork {
@@ -106,6 +138,7 @@ impl BandWork {
             dwc: vec![Complex::ZERO; n],
             tmp: v(),
             stages: [v(), v(), v()],
+            refine: Vec::new(),
         }
     }
 
@@ -153,14 +186,15 @@ impl BandRadau {
         self.first = true;
     }
 
-    /// Integrates exactly to `t_end` (> current time), calling `on_step(t, h, stages)` for every
-    /// accepted step, with its stages `y(t + C[i]·h)` in `stages`.
+    /// Integrates exactly to `t_end` (> current time), calling `on_step` for every accepted
+    /// step with its stages (and the blocks to integrate again, see [`BandSystem::block`]); an
+    /// error of `on_step` ends the call.
     pub fn integrate<S: BandSystem>(
         &mut self,
         sys: &S,
         work: &mut BandWork,
         t_end: f64,
-        mut on_step: impl FnMut(f64, f64, &[Vec<f64>; 3]),
+        mut on_step: impl FnMut(Accepted<'_>) -> Result<(), SolverError>,
     ) -> Result<(), SolverError> {
         let n = self.y.len();
         debug_assert!(work.fits(n) && sys.dim() == n);
@@ -238,7 +272,14 @@ impl BandRadau {
                     stage[i] = self.y[i] + work.z[k][i];
                 }
             }
-            on_step(self.t, h, &work.stages);
+            on_step(Accepted {
+                t: self.t,
+                h,
+                t1: t_new,
+                y0: &self.y,
+                stages: &mut work.stages,
+                refine: &work.refine,
+            })?;
             // The collocation polynomial, for the next step's starting values.
             for i in 0..n {
                 let (z1, z2, z3) = (work.z[0][i], work.z[1][i], work.z[2][i]);
@@ -434,11 +475,30 @@ impl BandRadau {
             work.e1.solve(&mut work.dw);
             err = rms(&work.dw, &work.scal).max(1e-10);
         }
-        if err.is_finite() {
-            err
-        } else {
-            1e10
+        if !err.is_finite() {
+            return 1e10;
         }
+        work.refine.clear();
+        let b = sys.block();
+        if b == 0 {
+            return err;
+        }
+        // The blocks whose own error fails: if few, the step's error is the others'.
+        let mut latent = 0.0;
+        for (k, (dw, scal)) in work.dw.chunks(b).zip(work.scal.chunks(b)).enumerate() {
+            let sum: f64 = dw.iter().zip(scal).map(|(a, s)| (a / s) * (a / s)).sum();
+            if sum > b as f64 {
+                if work.refine.len() == sys.max_refined() {
+                    work.refine.clear();
+                    return err;
+                }
+                work.refine.push(k);
+            } else {
+                latent += sum;
+            }
+        }
+        let others = n - b * work.refine.len();
+        (latent / others.max(1) as f64).sqrt().max(1e-10)
     }
 }
 
@@ -555,8 +615,9 @@ mod tests {
             let mut work = BandWork::new(80, 3, 3);
             let mut steps_seen = 0;
             for k in 1..=10 {
-                r.integrate(&chain, &mut work, 0.01 * k as f64, |_, _, _| {
-                    steps_seen += 1
+                r.integrate(&chain, &mut work, 0.01 * k as f64, |_| {
+                    steps_seen += 1;
+                    Ok(())
                 })
                 .unwrap();
             }

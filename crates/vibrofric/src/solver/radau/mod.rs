@@ -132,6 +132,15 @@ impl<const N: usize> Radau5<N> {
         self.tol
     }
 
+    /// The step to try first, where the caller knows one better than the integrator's own
+    /// guess from the first derivative.
+    pub fn first_step(mut self, h: f64) -> Self {
+        if h.is_finite() && h > 0.0 {
+            self.h = h;
+        }
+        self
+    }
+
     /// Tells the integrator that the right-hand side may have jumped at the current time (an
     /// input changed): the next step restarts without extrapolating the previous one.
     pub fn restart(&mut self) {

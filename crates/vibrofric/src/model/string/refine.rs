@@ -1,0 +1,314 @@
+//! A section whose own error failed in a step of the whole string, integrated again over that
+//! step alone (the multirate strategy of Savcenco, Hundsdorfer and Verwer, BIT 47, 2007): its
+//! body on its contact by its own Radau IIA with its reversals located, its drive force, its
+//! end element (first and last section) and its links acting on it, its neighbours moving as
+//! the string's step has them (the step's collocation polynomial). A section reversing costs
+//! its own short steps, not the whole string's.
+//!
+//! The state is `[Δx, v, s]`, `Δx` the displacement since the step's start (the position is
+//! `x0 + Δx`): the integrator's relative tolerance on `Δx` bounds the error of a displacement,
+//! not of a position that may have travelled kilometres.
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::physics::FrictionLaw;
+use crate::solver::{OdeSystem, Quad, Radau5, SolverError, Workspace, C, MAX_SWITCH};
+
+use super::equations::{StringModel, PER_SECTION};
+
+/// A neighbour's position and velocity over the step: the step's collocation polynomial, its
+/// value at the start and its increments at the three stages.
+#[derive(Clone, Copy, Debug)]
+struct Trajectory {
+    x: [f64; 4],
+    v: [f64; 4],
+}
+
+impl Trajectory {
+    fn of(j: usize, y0: &[f64], stages: &[Vec<f64>; 3]) -> Self {
+        let (kx, kv) = (PER_SECTION * j, PER_SECTION * j + 1);
+        Trajectory {
+            x: [
+                y0[kx],
+                stages[0][kx] - y0[kx],
+                stages[1][kx] - y0[kx],
+                stages[2][kx] - y0[kx],
+            ],
+            v: [
+                y0[kv],
+                stages[0][kv] - y0[kv],
+                stages[1][kv] - y0[kv],
+                stages[2][kv] - y0[kv],
+            ],
+        }
+    }
+
+    #[inline(always)]
+    fn at(&self, l: &[f64; 3]) -> (f64, f64) {
+        (
+            self.x[0] + self.x[1] * l[0] + self.x[2] * l[1] + self.x[3] * l[2],
+            self.v[0] + self.v[1] * l[0] + self.v[2] * l[1] + self.v[3] * l[2],
+        )
+    }
+}
+
+/// The Lagrange basis on the collocation nodes `C` (and 0, where every increment vanishes) at
+/// the fraction `theta` of the step.
+#[inline(always)]
+fn basis(theta: f64) -> [f64; 3] {
+    std::array::from_fn(|k| {
+        let mut l = theta / C[k];
+        for (m, &cm) in C.iter().enumerate() {
+            if m != k {
+                l *= (theta - cm) / (C[k] - cm);
+            }
+        }
+        l
+    })
+}
+
+/// What holds section `i` besides its contact: its links' and end elements' stiffness and
+/// damping, and its neighbours over the step.
+#[derive(Clone, Copy, Debug)]
+struct Holders {
+    left: Option<(f64, f64, Trajectory)>,
+    right: Option<(f64, f64, Trajectory)>,
+    top: bool,
+    bottom: bool,
+    k_sum: f64,
+    c_sum: f64,
+}
+
+/// Section `i` over one step of the string.
+struct SectionOde<'a, L> {
+    model: &'a StringModel<L>,
+    i: usize,
+    holders: Holders,
+    x0: f64,
+    t0: f64,
+    inv_h: f64,
+    scale: SVector<f64, 3>,
+    force_scale: f64,
+    v_scale: f64,
+    bound: Option<f64>,
+}
+
+struct Eval {
+    ds: f64,
+    f: f64,
+    /// The force of the links and end elements on the section.
+    held: f64,
+    vr: f64,
+}
+
+impl<L: FrictionLaw> SectionOde<'_, L> {
+    #[inline(always)]
+    fn eval(&self, t: f64, y: &SVector<f64, 3>) -> Eval {
+        let m = self.model;
+        let (x, v, s) = (self.x0 + y[0], y[1], y[2]);
+        let law = m.law(self.i, t);
+        let vr = v - m.support(self.i, t);
+        let ds = law.rate(s, vr);
+        let f = law.force(s, vr, ds);
+        let hd = &self.holders;
+        let mut held = 0.0;
+        if hd.left.is_some() || hd.right.is_some() {
+            let l = basis((t - self.t0) * self.inv_h);
+            if let Some((k, c, tr)) = hd.left {
+                let (xn, vn) = tr.at(&l);
+                held += k * (xn - x) + c * (vn - v);
+            }
+            if let Some((k, c, tr)) = hd.right {
+                let (xn, vn) = tr.at(&l);
+                held += k * (xn - x) + c * (vn - v);
+            }
+        }
+        let (lk, inp) = (&m.links, &m.inputs);
+        if hd.top {
+            held += lk.k_top * (inp.x_top(t) - x) + lk.c_top * (inp.v_top.at(t) - v);
+        }
+        if hd.bottom {
+            held -= lk.k_bottom * (x - inp.x_bottom(t)) + lk.c_bottom * (v - inp.v_bottom.at(t));
+        }
+        Eval { ds, f, held, vr }
+    }
+
+    #[inline(always)]
+    fn rhs_at(&self, t: f64, y: &SVector<f64, 3>, e: &Eval) -> SVector<f64, 3> {
+        let force = self.model.inputs.f_d[self.i].at(t) + e.held - e.f;
+        SVector::from([y[1], force * self.model.sections[self.i].inv_m, e.ds])
+    }
+}
+
+impl<L: FrictionLaw> OdeSystem<3> for SectionOde<'_, L> {
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &SVector<f64, 3>) -> SVector<f64, 3> {
+        let e = self.eval(t, y);
+        self.rhs_at(t, y, &e)
+    }
+
+    fn scale(&self) -> SVector<f64, 3> {
+        self.scale
+    }
+
+    fn n_switch(&self) -> usize {
+        1
+    }
+
+    /// The relative velocity: `|v_r|` has a kink where it passes through zero.
+    #[inline(always)]
+    fn switch(&self, t: f64, y: &SVector<f64, 3>) -> [f64; MAX_SWITCH] {
+        [self.eval(t, y).vr, 1.0]
+    }
+
+    fn switch_scale(&self) -> [f64; MAX_SWITCH] {
+        [self.v_scale, 0.0]
+    }
+
+    fn jacobian(&self, t: f64, y: &SVector<f64, 3>) -> Option<SMatrix<f64, 3, 3>> {
+        self.rhs_jacobian(t, y).1
+    }
+
+    #[inline(always)]
+    fn rhs_jacobian(
+        &self,
+        t: f64,
+        y: &SVector<f64, 3>,
+    ) -> (SVector<f64, 3>, Option<SMatrix<f64, 3, 3>>) {
+        let e = self.eval(t, y);
+        let lj = self.model.law(self.i, t).jacobian(y[2], e.vr, e.ds);
+        let inv_m = self.model.sections[self.i].inv_m;
+        let hd = &self.holders;
+        #[rustfmt::skip]
+        let jac = SMatrix::<f64, 3, 3>::from_row_slice(&[
+            0.0, 1.0, 0.0,
+            -hd.k_sum * inv_m, -(hd.c_sum + lj.force_v[0][0]) * inv_m, -lj.force_s[0][0] * inv_m,
+            0.0, lj.rate_v[0][0], lj.rate_s[0][0],
+        ]);
+        (self.rhs_at(t, y, &e), Some(jac))
+    }
+
+    #[inline(always)]
+    fn observe(&self, t: f64, y: &SVector<f64, 3>) -> ([f64; MAX_SWITCH], Quad) {
+        let e = self.eval(t, y);
+        ([e.vr, 1.0], [e.f, y[0]])
+    }
+
+    /// `F_Fx` (its step mean), and the displacement (whose integral gives the end elements'
+    /// step means).
+    #[inline(always)]
+    fn quadrature(&self, t: f64, y: &SVector<f64, 3>) -> Quad {
+        [self.eval(t, y).f, y[0]]
+    }
+
+    fn quadrature_scale(&self) -> f64 {
+        self.force_scale
+    }
+
+    /// `∫F_Fx dt` steers; the displacement's integral follows the state's accuracy.
+    fn quadrature_steers(&self) -> usize {
+        1
+    }
+
+    fn project(&self, _t: f64, y: &mut SVector<f64, 3>) {
+        if let Some(bound) = self.bound {
+            y[2] = y[2].clamp(-bound, bound);
+        }
+    }
+}
+
+/// A section integrated again: its state at the step's end and the integrals over the step of
+/// its friction force and its position.
+pub struct Refined {
+    pub y: [f64; 3],
+    pub friction: f64,
+    pub position: f64,
+    pub stats: crate::solver::SolverStats,
+}
+
+/// Integrates section `i` again from `t0` (state `y0`) to `t1` with its neighbours on the
+/// string's step (`stages`), to the internal tolerance `0.1·tol`, with the natural scales
+/// `scales` of its velocity and deformation (`[_, v, s]` per section, as the string's error
+/// scale at rest) and `x_scale` of its position (the string's at `y0`).
+#[allow(clippy::too_many_arguments)]
+pub fn refine<L: FrictionLaw>(
+    model: &StringModel<L>,
+    i: usize,
+    t0: f64,
+    t1: f64,
+    y0: &[f64],
+    stages: &[Vec<f64>; 3],
+    scales: &[f64],
+    x_scale: f64,
+    tol: f64,
+    work: &mut Workspace,
+) -> Result<Refined, SolverError> {
+    let n = model.n();
+    let l = &model.links;
+    let left = (i > 0).then(|| {
+        (
+            l.k_s[i - 1],
+            l.c_s[i - 1],
+            Trajectory::of(i - 1, y0, stages),
+        )
+    });
+    let right = (i + 1 < n).then(|| (l.k_s[i], l.c_s[i], Trajectory::of(i + 1, y0, stages)));
+    let (top, bottom) = (i == 0, i + 1 == n);
+    let mut k_sum = left.map_or(0.0, |h| h.0) + right.map_or(0.0, |h| h.0);
+    let mut c_sum = left.map_or(0.0, |h| h.1) + right.map_or(0.0, |h| h.1);
+    if top {
+        k_sum += l.k_top;
+        c_sum += l.c_top;
+    }
+    if bottom {
+        k_sum += l.k_bottom;
+        c_sum += l.c_bottom;
+    }
+    let sec = &model.sections[i];
+    let k = PER_SECTION * i;
+    let s_nom = sec.law.s_scale();
+    let p = &sec.params;
+    let ode = SectionOde {
+        model,
+        i,
+        holders: Holders {
+            left,
+            right,
+            top,
+            bottom,
+            k_sum,
+            c_sum,
+        },
+        x0: y0[k],
+        t0,
+        inv_h: 1.0 / (t1 - t0),
+        scale: SVector::from([x_scale, scales[k + 1], scales[k + 2]]),
+        force_scale: (p.k_t * s_nom).max(p.h_v * scales[k + 1]).max(1e-300),
+        v_scale: scales[k + 1],
+        bound: if model.inputs.f_n.is_empty() {
+            sec.law.bound()
+        } else {
+            None
+        },
+    };
+    // RADAU5 holds `0.1·tol'^(2/3)`: `tol' = tol^1.5` gives the string's `0.1·tol`.
+    // It is integrated again because the string's step was too long for it: a quarter of it
+    // first.
+    let mut r = Radau5::new(
+        t0,
+        SVector::from([0.0, y0[k + 1], y0[k + 2]]),
+        libm::pow(tol, 1.5),
+    )
+    .first_step(0.25 * (t1 - t0));
+    let mut q = [0.0; 2];
+    r.integrate_with(work, &ode, t1, f64::INFINITY, |st| {
+        q[0] += st.quad[0];
+        q[1] += st.quad[1];
+    })?;
+    Ok(Refined {
+        y: [y0[k] + r.y[0], r.y[1], r.y[2]],
+        friction: q[0],
+        position: y0[k] * (t1 - t0) + q[1],
+        stats: r.stats,
+    })
+}
