@@ -150,7 +150,7 @@ fn intro(w: &mut String) -> Result<(), String> {
     writeln!(
         w,
         "# Scene reference\n\n\
-         <!-- Generated from the scene reader (crates/vibrofric/src/description/scene.rs) and \
+         <!-- Generated from the scene reader (crates/vibrofric/src/description/scene/) and \
          the variable table (crates/vibrofric/src/table/table.rs) by \
          crates/vibrofric-docs/src/reference.rs. Do not edit: \
          regenerate with `UPDATE_DOCS=1 cargo test --test docs_reference`. -->\n\n\
