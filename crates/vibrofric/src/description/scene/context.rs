@@ -24,6 +24,8 @@ pub(super) struct Detail {
     pub outputs: Option<Vec<Spanned<Value>>>,
     #[serde(default)]
     pub start: Option<BTreeMap<Spanned<String>, Spanned<Value>>>,
+    #[serde(default)]
+    pub string: Option<BTreeMap<Spanned<String>, Spanned<Value>>>,
 }
 
 /// Context for building errors that point into the text.

@@ -48,7 +48,7 @@ impl Key {
 
 /// The top-level keys of a scene file, in the order the documentation lists them; the choice
 /// keys are the rows of `table/config.rs`.
-pub const KEYS: [Key; 10] = [
+pub const KEYS: [Key; 11] = [
     Key {
         name: "model_identifier",
         values: KeyValues::Text("string (C identifier)"),
@@ -80,7 +80,13 @@ pub const KEYS: [Key; 10] = [
         name: "start",
         values: KeyValues::Text("table: name = number"),
         requirement: "default: none",
-        meaning: "A table of start values that override the defaults: any parameter or input of the scene (see the tables below), in SI units.",
+        meaning: "A table of start values that override the defaults: any parameter or input of the scene (see the tables below), in SI units. In a string scene a per-section variable takes one number for every section or a list of one per section (one per link for `k_s`, `c_s`).",
+    },
+    Key {
+        name: "string",
+        values: KeyValues::Text("table: sections = N"),
+        requirement: "default: none (a single contact)",
+        meaning: "A string of contacts: `sections = N` (1 to 100000) bodies in a line, each on its own contact of the scene's law and support, joined by links (`k_s`, `c_s`) and held at the ends (`k_top`, `c_top`, `k_bottom`, `c_bottom`). Only with `motion = \"longitudinal\"` and `drive = \"force\"`; the scene then has no `outputs` key (every output of every section).",
     },
 ];
 

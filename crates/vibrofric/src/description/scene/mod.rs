@@ -15,11 +15,13 @@
 mod context;
 mod keys;
 mod reader;
+mod string;
 
 use std::fmt;
 
-use crate::description::variables::{Variable, VARIABLES};
-use crate::table::{Config, Drive, Inputs, Law, Motion, Normal, OutputId, Params, Support};
+use crate::description::variables::{VarKind, Variable, VARIABLES};
+use crate::table::{Config, Drive, Inputs, Law, Motion, Normal, OutputId, Params, StringValues};
+use crate::table::{ParamId, Support};
 
 pub use keys::{is_c_identifier, shown, Key, KeyValues, KEYS, MAX_IDENTIFIER};
 use reader::Reader;
@@ -43,6 +45,10 @@ pub struct Scene {
     /// scene's `[start]` overrides. An FMU instance holds these inputs until the importer sets
     /// them; the model description's `start` attributes state them.
     pub inputs: Inputs,
+    /// A string of contacts (`[string]`): its number of sections and the start values of its
+    /// per-section, per-link and end variables (`start` then holds the law's shared
+    /// parameters; `inputs` and `outputs` are unused).
+    pub string: Option<StringValues>,
     /// The TOML text exactly as read (shipped in the FMU as `resources/scene.toml`).
     pub source: String,
 }
@@ -148,10 +154,20 @@ impl Scene {
                 Normal::Input => true,
             },
         };
-        let outputs = r.outputs(detail.outputs, &config)?;
-        let (start, inputs) = r.start(detail.start, &config, &outputs)?;
+        let (outputs, start, inputs, string) = match r.string(detail.string, &config)? {
+            Some(n) => {
+                let (start, values) = r.string_start(detail.start, &config, n)?;
+                (vec![], start, default_inputs(), Some(values))
+            }
+            None => {
+                let outputs = r.outputs(detail.outputs, &config)?;
+                let (start, inputs) = r.start(detail.start, &config, &outputs)?;
+                (outputs, start, inputs, None)
+            }
+        };
         let description = r.description(&config)?;
         Ok(Scene {
+            string,
             model_identifier,
             description,
             config,
@@ -176,12 +192,24 @@ impl Scene {
         Scene::parse(&text, &origin)
     }
 
-    /// The variables this scene carries, in table (`ModelVariables`) order.
+    /// The variables this scene carries, in table (`ModelVariables`) order; in a string scene
+    /// the law's parameters its sections share (its own variables are
+    /// [`crate::table::StringVar`]s).
     pub fn variables(&self) -> impl Iterator<Item = &'static Variable> + '_ {
+        let shared: Vec<ParamId> = crate::table::shared_params(&self.config).collect();
         VARIABLES
             .iter()
-            .filter(move |v| v.present(&self.config, &self.outputs))
+            .filter(move |v| match (&self.string, v.kind) {
+                (None, _) => v.present(&self.config, &self.outputs),
+                (Some(_), VarKind::Param(p)) => shared.contains(&p),
+                (Some(_), _) => false,
+            })
             .map(move |v| v.in_scene(&self.config))
+    }
+
+    /// The number of sections of a string scene.
+    pub fn sections(&self) -> Option<usize> {
+        self.string.as_ref().map(|s| s.sections)
     }
 
     /// True when the scene carries the variable with this value reference.

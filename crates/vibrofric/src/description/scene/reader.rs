@@ -15,7 +15,7 @@ use crate::table::{Config, Drive, Inputs, Lateral, Motion, OutputId, Params, Sup
 
 /// A scene's top-level table, read once, with the context its errors point into.
 pub(super) struct Reader<'a> {
-    ctx: Ctx<'a>,
+    pub(super) ctx: Ctx<'a>,
     top: BTreeMap<Spanned<String>, Spanned<Value>>,
 }
 
@@ -49,7 +49,7 @@ impl<'a> Reader<'a> {
     }
 
     /// The key's place and its value.
-    fn get(&self, key: &str) -> Option<(Range<usize>, Spanned<Value>)> {
+    pub(super) fn get(&self, key: &str) -> Option<(Range<usize>, Spanned<Value>)> {
         self.top
             .get_key_value(key)
             .map(|(k, v)| (k.span(), v.clone()))
@@ -68,7 +68,7 @@ impl<'a> Reader<'a> {
     }
 
     /// An error on the key's entry, showing its value.
-    fn refuse(&self, key: &str, rule: impl Into<String>) -> SceneError {
+    pub(super) fn refuse(&self, key: &str, rule: impl Into<String>) -> SceneError {
         let (ks, v) = self.get(key).expect("refusing a key that is present");
         self.ctx
             .err(Some(&ks), key, Some(self.ctx.shown(&v)), rule, vec![])
@@ -142,6 +142,7 @@ impl<'a> Reader<'a> {
             ),
             ("outputs", Value::is_array, "an array of strings"),
             ("start", Value::is_table, "a table"),
+            ("string", Value::is_table, "a table (sections = N)"),
         ] {
             if let Some((_, v)) = self.get(key) {
                 if !is_ok(v.get_ref()) {

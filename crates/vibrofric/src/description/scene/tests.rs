@@ -106,7 +106,7 @@ fn text_xml_cannot_hold_long_identifiers_and_long_values_are_refused_or_cut() {
 fn unknown_key() {
     assert_eq!(
             err(&planar("colour = \"red\"", "")),
-            "bad.toml:6: colour = \"red\": unknown key; valid: model_identifier, description, law, motion, drive, lateral, support, normal, outputs, start"
+            "bad.toml:6: colour = \"red\": unknown key; valid: model_identifier, description, law, motion, drive, lateral, support, normal, outputs, start, string"
         );
 }
 
@@ -327,4 +327,101 @@ fn wrong_container_types() {
         err(&planar("description = 5", "")),
         "bad.toml:6: description = 5: must be a string"
     );
+}
+
+/// A LuGre string scene of `sections` with `start` lines.
+fn string_scene(sections: &str, start: &str) -> String {
+    format!(
+        "model_identifier = \"S\"\nlaw = \"lugre\"\nmotion = \"longitudinal\"\ndrive = \"force\"\nnormal = \"input\"\nsupport = [\"input\"]\n[string]\n{sections}\n[start]\n{start}\n"
+    )
+}
+
+#[test]
+fn string_scene_reads_scalars_and_lists() {
+    use crate::table::StringVar as V;
+    let s = Scene::parse(
+        &string_scene(
+            "sections = 3",
+            "m = [1.0, 2, 3]\nk_s = [10.0, 20.0]\nc_s = 5\nF_N = 100\nmu = 0.3\nF_S = 39\nk_t = 2e8\nk_bottom = 1e7\nF_d = [0, 0, 7]",
+        ),
+        "s.toml",
+    )
+    .unwrap();
+    let v = s.string.as_ref().unwrap();
+    assert_eq!(s.sections(), Some(3));
+    assert_eq!(v.get(V::M), &[1.0, 2.0, 3.0]);
+    assert_eq!(v.get(V::KS), &[10.0, 20.0]);
+    assert_eq!(v.get(V::CS), &[5.0, 5.0]);
+    assert_eq!(v.get(V::FN), &[100.0; 3]);
+    assert_eq!(v.get(V::FS), &[39.0; 3]);
+    assert_eq!(v.get(V::FD), &[0.0, 0.0, 7.0]);
+    assert_eq!(v.get(V::KBottom), &[1e7]);
+    assert_eq!(v.get(V::KTop), &[0.0]);
+    assert_eq!(s.start.k_t, 2e8);
+    assert!(s.outputs.is_empty());
+    // The scene's own rows are the shared law parameters only.
+    let names: Vec<_> = s.variables().map(|v| v.name()).collect();
+    assert_eq!(
+        names,
+        ["k_t", "v_S", "zeta_t", "h_v", "v_e", "max_steps"],
+        "{names:?}"
+    );
+    // One section: no links.
+    let one = Scene::parse(&string_scene("sections = 1", "F_S = 14.3"), "s.toml").unwrap();
+    assert!(one.string.unwrap().get(V::KS).is_empty());
+}
+
+#[test]
+fn string_scene_errors_name_the_key_and_the_rule() {
+    let planar = string_scene("sections = 2", "").replace("longitudinal", "planar");
+    assert_eq!(
+        err(&planar),
+        "bad.toml:7: string: a string of contacts needs motion = \"longitudinal\" and drive = \"force\" (this scene is planar, force drive)"
+    );
+    let velocity = string_scene("sections = 2", "")
+        .replace("\"force\"", "\"velocity\"")
+        .replace("normal = \"input\"\n", "");
+    assert!(err(&velocity).contains("needs motion = \"longitudinal\" and drive = \"force\" (this scene is longitudinal, velocity drive)"), "{}", err(&velocity));
+    for (sections, want) in [
+        (
+            "sections = 0",
+            "string.sections = 0: must be a whole number of sections from 1 to 100000",
+        ),
+        (
+            "sections = 100001",
+            "string.sections = 100001: must be a whole number",
+        ),
+        (
+            "sections = 2.5",
+            "string.sections = 2.5: must be a whole number",
+        ),
+        (
+            "count = 2",
+            "string.count = 2: unknown key; valid: sections",
+        ),
+    ] {
+        let e = err(&string_scene(sections, ""));
+        assert!(e.contains(want), "{e}");
+    }
+    assert!(err(&string_scene("", "")).contains("string.sections"));
+    for (start, want) in [
+        ("m = [1, 2]", "start.m = [1, 2]: a list of 2 values: must be a number or one per section (3)"),
+        ("k_s = [1, 2, 3]", "start.k_s = [1, 2, 3]: a list of 3 values: must be a number or one per link (2 for 3 sections)"),
+        ("m = [1, -2, 3]", "start.m[2] = -2: "),
+        ("m = [1, \"a\", 3]", "start.m[2] = [1, \"a\", 3]: must be a number"),
+        ("k_top = [1, 2]", "start.k_top = [1, 2]: must be a number"),
+        ("k_t = [1e8, 1e8, 1e8]", "start.k_t = [1e8, 1e8, 1e8]: must be a number (a parameter shared by every section)"),
+        ("T_avg = 1", "start.T_avg = 1: T_avg is not a parameter or input of this string scene"),
+        ("F_Fx = 1", "start.F_Fx = 1: F_Fx is an output"),
+        ("F_link = 1", "start.F_link = 1: F_link is not a parameter or input of this string scene"),
+        ("zzz = 1", "start.zzz = 1: not a parameter or input of any scene"),
+        ("F_N = [55, 55, 200]", "start.F_S[3] = 14.3: section 3: F_S = 14.3 N is below the Coulomb force"),
+        ("c_s = -1", "start.c_s = -1: "),
+    ] {
+        let e = err(&string_scene("sections = 3", start));
+        assert!(e.contains(want), "{start}: {e}");
+    }
+    let outputs =
+        string_scene("sections = 2", "").replace("[string]", "outputs = [\"x\"]\n[string]");
+    assert!(err(&outputs).contains("outputs = [\"x\"]: a string scene exposes every output of its sections: remove the key"), "{}", err(&outputs));
 }

@@ -22,8 +22,8 @@ use crate::table::{number, InputId, Law, ParamId, Params};
 use super::simulator::{SimError, StepStats, TOLERANCE_RANGE};
 use super::time::MAX_INPUT_RATE;
 
-/// Most sections a string may have.
-pub const MAX_SECTIONS: usize = 100_000;
+/// Most sections a string may have (declared with the string's variables).
+pub use crate::table::MAX_SECTIONS;
 
 /// What a string is made of: the law, whether the support vibrates harmonically (the same
 /// source under every section) and whether the normal forces are inputs.
