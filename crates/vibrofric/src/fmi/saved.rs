@@ -33,13 +33,15 @@ pub struct FmuState {
     pub staged: Staged,
     /// The simulator's state, once it exists.
     pub sim: Option<ContactState>,
+    /// A string scene's values and simulator state.
+    pub string: Option<super::instance::StringSaved>,
 }
 
 const MAGIC: &[u8; 16] = b"vibrofric-state\0";
-/// 6: with the interface and the standard's edition of the instance that saved it (5: Model
+/// 7: with a string scene's part. 6: with the interface and the standard's edition of the instance that saved it (5: Model
 /// Exchange's event-indicator sides; 4: postcard payload with the contact's named state; 3:
 /// hand-written layout).
-const FORMAT_VERSION: u32 = 6;
+const FORMAT_VERSION: u32 = 7;
 
 /// FNV-1a, 64 bit: detects a corrupted or truncated byte string.
 fn checksum(b: &[u8]) -> u64 {

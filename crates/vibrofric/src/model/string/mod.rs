@@ -234,6 +234,12 @@ pub trait StringSimulator: Send {
     fn outputs(&self) -> StringOutputs;
     fn stats(&self) -> StepStats;
     fn clone_box(&self) -> Box<dyn StringSimulator>;
+    /// The string's complete state as numbers (the integrator's, the input tracks, the step
+    /// means): [`StringSimulator::restore`] into a string built from the same configuration and
+    /// parameters continues bit for bit.
+    fn save(&self) -> Vec<f64>;
+    /// Restores what [`StringSimulator::save`] wrote; an error leaves the string as it was.
+    fn restore(&mut self, data: &[f64]) -> Result<(), SimError>;
 }
 
 /// Builds a string at rest at the origin (zero deformation, zero inputs, the load inputs at the
@@ -493,5 +499,63 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
 
     fn clone_box(&self) -> Box<dyn StringSimulator> {
         Box::new(self.clone())
+    }
+
+    fn save(&self) -> Vec<f64> {
+        let mut out = vec![];
+        self.radau.save(&mut out);
+        let inp = &self.model.inputs;
+        for tr in inp
+            .f_d
+            .iter()
+            .chain(&inp.v_sx)
+            .chain(&inp.f_n)
+            .chain([&inp.v_top, &inp.v_bottom])
+        {
+            out.extend_from_slice(&[tr.t_ref, tr.value, tr.slope]);
+        }
+        out.extend_from_slice(&[inp.x_top_ref, inp.x_bottom_ref]);
+        out.extend(self.integrals.iter().chain(&self.means));
+        out
+    }
+
+    fn restore(&mut self, data: &[f64]) -> Result<(), SimError> {
+        let bad = |why: &str| SimError::Inconsistent(format!("the saved string state {why}"));
+        let n = self.model.n();
+        let dim = PER_SECTION * n;
+        let radau_len = BandRadau::saved_len(dim);
+        let tracks = 2 * n + self.model.inputs.f_n.len() + 2;
+        if data.len() != radau_len + 3 * tracks + 2 + 2 * (n + 2) {
+            return Err(bad("has the wrong length for this string"));
+        }
+        if data.iter().any(|x| !x.is_finite()) {
+            return Err(bad("holds a number that is not finite"));
+        }
+        let radau = BandRadau::load(&data[..radau_len], dim, self.radau.step_limit)
+            .ok_or_else(|| bad("does not describe this string's integrator"))?;
+        let mut inputs = self.model.inputs.clone();
+        let mut it = data[radau_len..].chunks(3);
+        for tr in inputs
+            .f_d
+            .iter_mut()
+            .chain(inputs.v_sx.iter_mut())
+            .chain(inputs.f_n.iter_mut())
+            .chain([&mut inputs.v_top, &mut inputs.v_bottom])
+        {
+            let c = it.next().ok_or_else(|| bad("is truncated"))?;
+            *tr = InputTrack {
+                t_ref: c[0],
+                value: c[1],
+                slope: c[2],
+            };
+        }
+        let rest = &data[radau_len + 3 * tracks..];
+        inputs.x_top_ref = rest[0];
+        inputs.x_bottom_ref = rest[1];
+        self.integrals = rest[2..2 + n + 2].to_vec();
+        self.means = rest[2 + n + 2..].to_vec();
+        self.model.inputs = inputs;
+        self.radau = radau;
+        Ok(())
     }
 }
