@@ -17,7 +17,7 @@ use crate::fmi::staging::Staged;
 use crate::fmi::state::{Call, State};
 use crate::fmi::status::Status;
 use crate::model::string::{build_string, StringConfig, StringInput, StringOutputs};
-use crate::model::string::{Links, StringParams, StringSimulator};
+use crate::model::string::{StringParams, StringSimulator};
 use crate::model::{self, SimError};
 use crate::table::{number, Role, StringValues, StringVar, ARRAY_STRIDE};
 
@@ -421,21 +421,7 @@ fn build(
         (Some(start), true) => start.get(StringVar::FN).to_vec(),
         _ => v.get(StringVar::FN).to_vec(),
     };
-    let params = StringParams {
-        shared: st.params,
-        m: v.get(StringVar::M).to_vec(),
-        mu: v.get(StringVar::Mu).to_vec(),
-        f_n: f_n.clone(),
-        f_s: v.get(StringVar::FS).to_vec(),
-        links: Links {
-            k_s: v.get(StringVar::KS).to_vec(),
-            c_s: v.get(StringVar::CS).to_vec(),
-            k_top: v.one(StringVar::KTop),
-            c_top: v.one(StringVar::CTop),
-            k_bottom: v.one(StringVar::KBottom),
-            c_bottom: v.one(StringVar::CBottom),
-        },
-    };
+    let params = StringParams::from_values(st.params, v, &f_n);
     let config = StringConfig {
         law: c.law,
         harmonic: c.harmonic,

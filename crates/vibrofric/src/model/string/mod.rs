@@ -17,7 +17,7 @@ pub use equations::{Links, Section, StringInputs, StringModel, PER_SECTION};
 use crate::physics::{Dahl, Dupont, FrictionLaw, Harmonic, InputTrack, LuGre};
 use crate::solver::band::{BandRadau, BandWork};
 use crate::solver::{B, C};
-use crate::table::{number, InputId, Law, ParamId, Params};
+use crate::table::{number, InputId, Law, ParamId, Params, StringValues, StringVar};
 
 use super::simulator::{SimError, StepStats, TOLERANCE_RANGE};
 use super::time::MAX_INPUT_RATE;
@@ -65,6 +65,28 @@ impl StringParams {
                 c_top: 0.0,
                 k_bottom: 0.0,
                 c_bottom: 0.0,
+            },
+        }
+    }
+
+    /// A string's parameters from a scene's values: the law's shared parameters, each
+    /// section's `m`, `mu`, `F_S` and the links and ends from `v`, and each section's load
+    /// `f_n` (where the normal force is an input, the scene's start values: the load at which
+    /// `F_S` and `zeta_t` are given).
+    pub fn from_values(shared: Params, v: &StringValues, f_n: &[f64]) -> Self {
+        StringParams {
+            shared,
+            m: v.get(StringVar::M).to_vec(),
+            mu: v.get(StringVar::Mu).to_vec(),
+            f_n: f_n.to_vec(),
+            f_s: v.get(StringVar::FS).to_vec(),
+            links: Links {
+                k_s: v.get(StringVar::KS).to_vec(),
+                c_s: v.get(StringVar::CS).to_vec(),
+                k_top: v.one(StringVar::KTop),
+                c_top: v.one(StringVar::CTop),
+                k_bottom: v.one(StringVar::KBottom),
+                c_bottom: v.one(StringVar::CBottom),
             },
         }
     }
