@@ -194,7 +194,9 @@ fn check(s: &FmuState) -> Result<(), String> {
             s.interface.name()
         ));
     }
-    match (st.state, s.sim.is_some()) {
+    // A string's simulator state is in its part.
+    let has_sim = s.sim.is_some() || s.string.as_ref().is_some_and(|p| p.sim.is_some());
+    match (st.state, has_sim) {
         (S::Fatal, _) => Err("serialized state machine state Fatal cannot be restored".into()),
         (
             S::StepComplete | S::StepFailed | S::Terminated | S::EventMode | S::ContinuousTimeMode,
