@@ -13,7 +13,9 @@ use vibrofric_docs::docs;
 
 use crate::package::write_fmu;
 use crate::platforms::{self, Request, Shipped};
-use crate::self_check::{self_check, self_check_fmi3, self_check_model_exchange, self_check_string};
+use crate::self_check::{
+    self_check, self_check_fmi3, self_check_model_exchange, self_check_string,
+};
 use crate::{standard_scenes, SCENES_DIR};
 
 pub fn export(

@@ -18,6 +18,7 @@ use super::state::{Interface, State};
 use crate::model::{self, ContactState, InputId};
 use crate::table::number;
 use crate::table::ParamId;
+use crate::table::{StringValues, StringVar};
 
 /// A saved FMU state: the state machine's state, the staged values and the simulator's
 /// complete state. Restoring it, also into another instance of the same FMU or after
@@ -34,7 +35,16 @@ pub struct FmuState {
     /// The simulator's state, once it exists.
     pub sim: Option<ContactState>,
     /// A string scene's values and simulator state.
-    pub string: Option<super::instance::StringSaved>,
+    pub string: Option<StringSaved>,
+}
+
+/// The string's part of a saved state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StringSaved {
+    pub values: StringValues,
+    pub derivs: Vec<(StringVar, u32, f64)>,
+    /// The simulator's state ([`StringSimulator::save`]), once it exists.
+    pub sim: Option<Vec<f64>>,
 }
 
 const MAGIC: &[u8; 16] = b"vibrofric-state\0";

@@ -26,8 +26,6 @@ mod stepping;
 mod string;
 mod values;
 
-pub use string::StringSaved;
-
 pub use model_exchange::EventInfo;
 
 use super::log::Logger;

@@ -8,11 +8,10 @@
 //! The string's parameters, the shared law parameters among them, are fixed: set before
 //! initialization ends.
 
-use serde::{Deserialize, Serialize};
-
 use super::Instance;
 use crate::description::scene::Scene;
 use crate::fmi::refusal::{Answer, Refusal};
+use crate::fmi::saved::StringSaved;
 use crate::fmi::staging::Staged;
 use crate::fmi::state::{Call, State};
 use crate::fmi::status::Status;
@@ -29,15 +28,6 @@ pub(super) struct StringPart {
     /// Input derivatives set before the simulator exists (applied when it is built).
     pub derivs: Vec<(StringVar, usize, f64)>,
     pub sim: Option<Box<dyn StringSimulator>>,
-}
-
-/// The string's part of a saved state.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct StringSaved {
-    pub values: StringValues,
-    pub derivs: Vec<(StringVar, u32, f64)>,
-    /// The simulator's state ([`StringSimulator::save`]), once it exists.
-    pub sim: Option<Vec<f64>>,
 }
 
 impl StringPart {
