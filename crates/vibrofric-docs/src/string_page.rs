@@ -143,6 +143,11 @@ pub fn page(scene: &Scene, ed: Edition) -> String {
         "<h2>Running it</h2>\n<p>With fmpy (<code>pip install fmpy</code>):</p>\n<pre class=\"python\">{}</pre>\n",
         escape(&snippet)
     ));
+    h.push_str(&format!(
+        "<p>From the command line: <code class=\"shell\">fmpy simulate {id}.fmu --output-interval {} --stop-time {}</code>.</p>\n",
+        number(step),
+        number(t1)
+    ));
     h.push_str("<h2>Scene</h2>\n<p>The scene this FMU was exported from (also in <code>resources/scene.toml</code>):</p>\n");
     h.push_str(&format!("<pre>{}</pre>\n", escape(&scene.source)));
     h.push_str("</body>\n</html>\n");
