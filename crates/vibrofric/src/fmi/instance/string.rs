@@ -436,3 +436,167 @@ fn build(
     }
     Ok(sim)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::description::xml;
+    use crate::fmi::fmi2::Function as F2;
+    use crate::fmi::fmi3::Function as F3;
+    use crate::fmi::Interface;
+    use std::sync::{Arc, Mutex};
+
+    type Log = Arc<Mutex<Vec<String>>>;
+    struct Collect(Log);
+    impl crate::fmi::Logger for Collect {
+        fn log(&self, _: Status, _: &str, message: &str) {
+            self.0.lock().unwrap().push(message.to_string());
+        }
+    }
+
+    const SCENE: &str = "model_identifier = \"S\"\nlaw = \"dahl\"\nmotion = \"longitudinal\"\ndrive = \"force\"\nsupport = [\"input\"]\n[string]\nsections = 3\n[start]\nm = [1.0, 2.0, 3.0]\nk_s = 1e5\n";
+
+    fn instance(tag: &str, call: Call) -> (Instance, Log) {
+        let dir =
+            std::env::temp_dir().join(format!("vibrofric-string-{}-{tag}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("scene.toml"), SCENE).unwrap();
+        let scene = Scene::parse(SCENE, "scene.toml").unwrap();
+        let log: Log = Default::default();
+        let i = Instance::instantiate(
+            call,
+            Interface::CoSimulation,
+            "unit",
+            "token",
+            Some(&xml::guid(&scene)),
+            &dir,
+            "a test folder",
+            Box::new(Collect(log.clone())),
+            false,
+        )
+        .unwrap();
+        let _ = std::fs::remove_dir_all(dir);
+        (i, log)
+    }
+
+    fn last(log: &Log) -> String {
+        log.lock().unwrap().last().cloned().unwrap_or_default()
+    }
+
+    #[test]
+    fn fmi2_elements_are_checked_named_and_fixed_after_initialization() {
+        let (mut i, log) = instance("fmi2", F2::Instantiate.call());
+        let run = |i: &mut Instance, f: F2, body: &mut dyn FnMut(&mut Instance, Call) -> Answer| {
+            let c = f.call();
+            i.answer(c, |i| body(i, c))
+        };
+        // m[2] = -1 refused, m[1] of the same call not written.
+        let s = run(&mut i, F2::SetReal, &mut |i, c| {
+            i.set_values(c, &[1_000_001, 1_000_002], &[5.0, -1.0])
+        });
+        assert_eq!(s, Status::Error);
+        assert!(last(&log).contains("m[2] = -1"), "{}", last(&log));
+        run(&mut i, F2::Reset, &mut |i, c| i.reset(c));
+        run(&mut i, F2::EnterInitializationMode, &mut |i, c| {
+            i.enter_initialization(c)
+        });
+        let mut v = [0.0; 3];
+        assert_eq!(
+            run(&mut i, F2::GetReal, &mut |i, c| i.get_values(
+                c,
+                &[1_000_001, 1_000_002, 1_000_003],
+                &mut v
+            )),
+            Status::Ok
+        );
+        assert_eq!(v, [1.0, 2.0, 3.0]);
+        // x[4] of a string of 3.
+        let mut one = [0.0];
+        assert_eq!(
+            run(&mut i, F2::GetReal, &mut |i, c| i.get_values(
+                c,
+                &[203_000_004],
+                &mut one
+            )),
+            Status::Error
+        );
+        assert!(
+            last(&log).contains("x[4]") && last(&log).contains("3 of them"),
+            "{}",
+            last(&log)
+        );
+        run(&mut i, F2::Reset, &mut |i, c| i.reset(c));
+        run(&mut i, F2::EnterInitializationMode, &mut |i, c| {
+            i.enter_initialization(c)
+        });
+        run(&mut i, F2::ExitInitializationMode, &mut |i, c| {
+            i.exit_initialization(c)
+        });
+        assert_eq!(
+            run(&mut i, F2::SetReal, &mut |i, c| i.set_values(
+                c,
+                &[1_000_001],
+                &[5.0]
+            )),
+            Status::Error
+        );
+        assert!(last(&log).contains("variability fixed"), "{}", last(&log));
+        run(&mut i, F2::Reset, &mut |i, c| i.reset(c));
+        run(&mut i, F2::EnterInitializationMode, &mut |i, c| {
+            i.enter_initialization(c)
+        });
+        run(&mut i, F2::ExitInitializationMode, &mut |i, c| {
+            i.exit_initialization(c)
+        });
+        // Pushed at section 3 for a step: it moves, F_d[3] reads back.
+        assert_eq!(
+            run(&mut i, F2::SetReal, &mut |i, c| i.set_values(
+                c,
+                &[101_000_003],
+                &[10.0]
+            )),
+            Status::Ok
+        );
+        assert_eq!(
+            run(&mut i, F2::DoStep, &mut |i, c| i.step(c, 0.0, 1e-3)),
+            Status::Ok
+        );
+        let mut got = [0.0; 2];
+        run(&mut i, F2::GetReal, &mut |i, c| {
+            i.get_values(c, &[203_000_003, 101_000_003], &mut got)
+        });
+        assert!(got[0] > 0.0 && got[1] == 10.0, "{got:?}");
+    }
+
+    #[test]
+    fn fmi3_arrays_take_all_their_elements() {
+        let (mut i, log) = instance("fmi3", F3::InstantiateCoSimulation.call());
+        let c = F3::EnterInitializationMode.call();
+        i.answer(c, |i| i.enter_initialization(c));
+        let c = F3::GetFloat64.call();
+        let mut v = [0.0; 4];
+        // m (3) and k_s (2) hold 5 values, not 4.
+        assert_eq!(
+            i.answer(c, |i| i.get_values(c, &[1_000_000, 25_000_000], &mut v)),
+            Status::Error
+        );
+        assert!(last(&log).contains("hold 5 values"), "{}", last(&log));
+        let c = F3::Reset.call();
+        i.answer(c, |i| i.reset(c));
+        let c = F3::EnterInitializationMode.call();
+        i.answer(c, |i| i.enter_initialization(c));
+        let c = F3::GetFloat64.call();
+        let mut v = [0.0; 5];
+        assert_eq!(
+            i.answer(c, |i| i.get_values(c, &[1_000_000, 25_000_000], &mut v)),
+            Status::Ok
+        );
+        assert_eq!(v, [1.0, 2.0, 3.0, 1e5, 1e5]);
+        let c = F3::SetFloat64.call();
+        assert_eq!(
+            i.answer(c, |i| i.set_values(c, &[3_000_000], &[0.1, 0.2, -0.3])),
+            Status::Error
+        );
+        assert!(last(&log).contains("mu[3] = -0.3"), "{}", last(&log));
+    }
+}
