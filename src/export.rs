@@ -7,12 +7,15 @@
 use std::path::{Path, PathBuf};
 
 use vibrofric::description::variables::Causality;
-use vibrofric::description::{xml, xml3, Scene};
+use vibrofric::description::{xml, xml3, xml_string, Scene};
+use vibrofric::table::Role;
 use vibrofric_docs::docs;
 
 use crate::package::write_fmu;
 use crate::platforms::{self, Request, Shipped};
-use crate::self_check::{self_check, self_check_fmi3, self_check_model_exchange};
+use crate::self_check::{
+    self_check, self_check_fmi3, self_check_model_exchange, self_check_string,
+};
 use crate::{standard_scenes, SCENES_DIR};
 
 pub fn export(
@@ -112,11 +115,21 @@ pub fn export(
             .collect();
         let doc3 = docs::index_html_fmi3(scene, &doc3);
         write_fmu(&fmu3, scene, &xml3::model_description(scene), &bins3, &doc3)?;
-        let n_vars = scene.variables().count();
-        let n_out = scene
-            .variables()
-            .filter(|v| v.causality(&scene.config) == Causality::Output)
-            .count();
+        let (n_vars, n_out) = match &scene.string {
+            // FMI 2.0's scalars.
+            Some(_) => {
+                let rows = xml_string::rows(scene, xml_string::Edition::Fmi2);
+                let outputs = rows.iter().filter(|r| r.role == Role::Output).count();
+                (rows.len(), outputs)
+            }
+            None => (
+                scene.variables().count(),
+                scene
+                    .variables()
+                    .filter(|v| v.causality(&scene.config) == Causality::Output)
+                    .count(),
+            ),
+        };
         let size = std::fs::metadata(&fmu).map(|m| m.len()).unwrap_or(0);
         println!(
             "{} -> {} and {} ({n_vars} variables, {n_out} outputs, {:.1} MB, GUID {})",
@@ -131,7 +144,12 @@ pub fn export(
             std::fs::write(&p, &description).map_err(|e| format!("{}: {e}", p.display()))?;
             println!("  wrote {}", p.display());
         }
-        if check {
+        if check && scene.string.is_some() {
+            match self_check_string(&fmu, &fmu3, scene) {
+                Ok(line) => println!("  self-check: {line}"),
+                Err(e) => return Err(format!("{}: self-check failed: {e}", fmu.display())),
+            }
+        } else if check {
             match self_check(&fmu, scene) {
                 Ok(line) => println!("  self-check: {line}"),
                 Err(e) => return Err(format!("{}: self-check failed: {e}", fmu.display())),

@@ -132,6 +132,12 @@ pub fn run(o: &Options) -> Result<String, String> {
         ));
     }
     let scene = Scene::load(&o.scene).map_err(|e| e.to_string())?;
+    if let Some(n) = scene.sections() {
+        return Err(format!(
+            "{}: a string of {n} contacts; `simulate` runs a single contact: export the string and run its FMU",
+            o.scene.display()
+        ));
+    }
     simulate(&scene, o)
 }
 

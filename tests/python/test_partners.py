@@ -26,7 +26,9 @@ import pytest
 import partners
 from conftest import SCENES, fmu_path
 
-SCENE_FILES = sorted(SCENES.glob("*.toml"))
+# Strings of contacts (`[string]`) are not yet among the partners' runs (test_string.py runs
+# them through fmpy).
+SCENE_FILES = sorted(p for p in SCENES.glob("*.toml") if "string" not in tomllib.loads(p.read_text()))
 IDENTIFIERS = [tomllib.loads(p.read_text())["model_identifier"] for p in SCENE_FILES]
 
 # The grid: 0.1 ms (a fifth of the 2 kHz vibration period; 1e-4 is not a binary fraction, so

@@ -691,6 +691,9 @@ pub fn index_html_for(scene: &Scene, binaries: &[Binary]) -> String {
 
 /// The documentation page of one edition of a scene's FMU.
 fn page(scene: &Scene, binaries: &[Binary], ed: Edition) -> String {
+    if scene.string.is_some() {
+        return crate::string_page::page(scene, ed);
+    }
     let c = &scene.config;
     let id = escape(&scene.model_identifier);
     let v = ed.version();
@@ -718,6 +721,7 @@ fn page(scene: &Scene, binaries: &[Binary], ed: Edition) -> String {
         Edition::Fmi3 => "<p>The FMI 2.0 edition of this scene has the same variables, value references and results (its GUID is this instantiation token) for FMI 2.0 importers; it also takes input derivatives.</p>\n",
     };
     h.push_str(other);
+    h.push_str(&crate::string_page::load_warning_html(scene));
     h.push_str(&format!(
         "<p>Scene: law <code>{}</code>, motion <code>{}</code>, drive <code>{}</code>{}, support motion {}.</p>\n",
         c.law.word(),

@@ -141,6 +141,7 @@ pub fn scenes_markdown(standard: &[(String, Scene)]) -> Result<String, String> {
     parameters_section(&mut m, &scenes_all)?;
     outputs_section(&mut m, &scenes_all)?;
     combinations_section(&mut m, &configs)?;
+    string_section(&mut m)?;
     standard_section(&mut m, standard)?;
     Ok(m)
 }
@@ -150,7 +151,7 @@ fn intro(w: &mut String) -> Result<(), String> {
     writeln!(
         w,
         "# Scene reference\n\n\
-         <!-- Generated from the scene reader (crates/vibrofric/src/description/scene.rs) and \
+         <!-- Generated from the scene reader (crates/vibrofric/src/description/scene/) and \
          the variable table (crates/vibrofric/src/table/table.rs) by \
          crates/vibrofric-docs/src/reference.rs. Do not edit: \
          regenerate with `UPDATE_DOCS=1 cargo test --test docs_reference`. -->\n\n\
@@ -378,6 +379,76 @@ fn combinations_section(
 }
 
 /// The standard scenes and the start values each sets.
+/// The variables of a string of contacts (`[string]`), from their rows.
+fn string_section(w: &mut String) -> Result<(), String> {
+    use vibrofric::table::{Role, Shape, StringVar, ARRAY_STRIDE, MAX_SECTIONS};
+    writeln!(
+        w,
+        "\n## Strings of contacts (`[string]`)\n\n\
+         A scene with `[string]` and `sections = N` (1 to {MAX_SECTIONS}; only `motion = \"longitudinal\"` \
+         and `drive = \"force\"`) holds N sections in one FMU (Co-Simulation), each on its own \
+         contact of the scene's law and support, joined by links and held at the ends. The law's \
+         other parameters (`k_t`, `v_S`, `zeta_t`, ...) are shared by every section and take one \
+         number in `[start]`; the variables below take one number for every element or a list of \
+         one per element (N per section, N − 1 per link), e.g. `m = [267.0, 267.0, 300.0]`. A \
+         string has no `outputs` key (it has every output below) and no `T_avg`, `F_mean`, \
+         `reduction`, `P_diss`. Every parameter is fixed.\n\n\
+         Value references: an array of base `b` is `b·{ARRAY_STRIDE}` in FMI 3.0 (one variable `x` with a \
+         dimension of its length) and `b·{ARRAY_STRIDE} + i` for the scalar `x[i]` of FMI 2.0; a \
+         variable of the string keeps them in every FMU. The standard scene is \
+         `scenes/drill-string.toml`.\n\n\
+         | name | per | causality | unit | value reference (FMI 3.0) | FMI 2.0 | accepted | default | description |\n\
+         |---|---|---|---|---|---|---|---|---|"
+    )
+    .unwrap();
+    for v in StringVar::ALL {
+        let per = match v.shape() {
+            Shape::Section => "section (N)",
+            Shape::Link => "link (N − 1)",
+            Shape::One => "string",
+        };
+        let causality = match v.role(&Config::default()) {
+            Role::Param if v == StringVar::FN => "parameter (input with `normal = \"input\"`)",
+            Role::Param => "parameter",
+            Role::Input => "input",
+            Role::Output => "output",
+        };
+        let fmi2 = if v.shape() == Shape::One {
+            v.vr().to_string()
+        } else {
+            format!("`{}[i]`: {} + i", v.name(), v.vr())
+        };
+        let settable = v.role(&Config::default()) != Role::Output || v == StringVar::FN;
+        let (accepted, default) = if settable {
+            let r = v.rule();
+            let default = match v.contact_param() {
+                Some(p) => format!(
+                    "the scalar `{}` ({})",
+                    p.name(),
+                    xml::number(p.get(&Params::default()))
+                ),
+                None => "0".to_string(),
+            };
+            (
+                format!("{} to {}", xml::number(r.min), xml::number(r.max)),
+                default,
+            )
+        } else {
+            ("—".into(), "—".into())
+        };
+        writeln!(
+            w,
+            "| `{}` | {per} | {causality} | {} | {} | {fmi2} | {accepted} | {default} | {} |",
+            v.name(),
+            v.unit(),
+            v.vr(),
+            v.description().replace('|', "\\|")
+        )
+        .unwrap();
+    }
+    Ok(())
+}
+
 fn standard_section(w: &mut String, standard: &[(String, Scene)]) -> Result<(), String> {
     writeln!(
         w,

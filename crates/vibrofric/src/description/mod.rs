@@ -8,5 +8,7 @@ pub mod scene;
 pub mod variables;
 pub mod xml;
 pub mod xml3;
+mod xml_parts;
+pub mod xml_string;
 
 pub use scene::{Scene, SceneError};

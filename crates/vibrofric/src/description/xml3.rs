@@ -22,10 +22,10 @@ use quick_xml::Writer;
 
 use super::scene::Scene;
 use super::variables::{Causality, Initial, VarKind, Variable};
-use super::xml::{
-    close, empty, generation_tool, guid, number, open, write_default_experiment,
-    write_log_categories, write_units, W,
-};
+use super::xml::guid;
+use super::xml_parts::{close, empty, generation_tool, number, open, W};
+use super::xml_parts::{write_default_experiment, write_log_categories, write_units};
+use super::xml_string::{self, Edition};
 
 /// The FMI version written into the FMI 3.0 model description.
 pub const FMI3_VERSION: &str = "3.0";
@@ -35,6 +35,9 @@ pub const TIME_VR: u32 = 0;
 
 /// The FMI 3.0 model description of a scene.
 pub fn model_description(scene: &Scene) -> String {
+    if scene.string.is_some() {
+        return xml_string::model_description(scene, Edition::Fmi3, &guid(scene));
+    }
     let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
     write_into(&mut w, scene, &guid(scene)).expect("writing XML into memory cannot fail");
     let mut bytes = w.into_inner();
@@ -115,7 +118,8 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
             ("providesEvaluateDiscreteStates", "false"),
         ],
     )?;
-    write_units(w, &vars)?;
+    let units: Vec<&str> = vars.iter().map(|v| v.unit).collect();
+    write_units(w, &units)?;
     // Units as types: a Float64Type per (unit, display unit) the variables use, which they
     // name as their declaredType (FMI 3.0 allows the unit on the variable too, but importers
     // built on rust-fmi's schema, such as fmi-sim, read it only from a type).

@@ -18,6 +18,7 @@ use super::state::{Interface, State};
 use crate::model::{self, ContactState, InputId};
 use crate::table::number;
 use crate::table::ParamId;
+use crate::table::{StringValues, StringVar};
 
 /// A saved FMU state: the state machine's state, the staged values and the simulator's
 /// complete state. Restoring it, also into another instance of the same FMU or after
@@ -33,13 +34,24 @@ pub struct FmuState {
     pub staged: Staged,
     /// The simulator's state, once it exists.
     pub sim: Option<ContactState>,
+    /// A string scene's values and simulator state.
+    pub string: Option<StringSaved>,
+}
+
+/// The string's part of a saved state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StringSaved {
+    pub values: StringValues,
+    pub derivs: Vec<(StringVar, u32, f64)>,
+    /// The simulator's state ([`StringSimulator::save`]), once it exists.
+    pub sim: Option<Vec<f64>>,
 }
 
 const MAGIC: &[u8; 16] = b"vibrofric-state\0";
-/// 6: with the interface and the standard's edition of the instance that saved it (5: Model
+/// 7: with a string scene's part. 6: with the interface and the standard's edition of the instance that saved it (5: Model
 /// Exchange's event-indicator sides; 4: postcard payload with the contact's named state; 3:
 /// hand-written layout).
-const FORMAT_VERSION: u32 = 6;
+const FORMAT_VERSION: u32 = 7;
 
 /// FNV-1a, 64 bit: detects a corrupted or truncated byte string.
 fn checksum(b: &[u8]) -> u64 {
@@ -192,7 +204,9 @@ fn check(s: &FmuState) -> Result<(), String> {
             s.interface.name()
         ));
     }
-    match (st.state, s.sim.is_some()) {
+    // A string's simulator state is in its part.
+    let has_sim = s.sim.is_some() || s.string.as_ref().is_some_and(|p| p.sim.is_some());
+    match (st.state, has_sim) {
         (S::Fatal, _) => Err("serialized state machine state Fatal cannot be restored".into()),
         (
             S::StepComplete | S::StepFailed | S::Terminated | S::EventMode | S::ContinuousTimeMode,

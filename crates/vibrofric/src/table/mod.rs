@@ -7,7 +7,9 @@
 //! - `rule.rs`: the accepted ranges ([`Rule`]) and the error naming a broken one;
 //! - `dependencies.rs`: what each kind of output depends on ([`Depends`]);
 //! - `states.rs`: the continuous states of Model Exchange ([`StateId`]) and what their
-//!   derivatives depend on.
+//!   derivatives depend on;
+//! - `string.rs`: the variables of a string of contacts ([`StringVar`]), their value
+//!   references and values ([`StringValues`]).
 
 #[macro_use]
 mod declare;
@@ -15,6 +17,7 @@ mod config;
 mod dependencies;
 mod rule;
 mod states;
+mod string;
 #[allow(clippy::module_inception)]
 mod table;
 
@@ -22,6 +25,10 @@ pub use config::{ChoiceKey, Config, Drive, Lateral, Law, Motion, Normal, Support
 pub use dependencies::{Dependency, Depends};
 pub use rule::{number, ParamError, Rule, Sign};
 pub use states::{force_knowns, rate_knowns, velocity_knowns, IndicatorId, Known, StateId};
+pub use string::{
+    shared_params, Role, Shape, StringDependency, StringValues, StringVar, ARRAY_STRIDE, LINK_RULE,
+    MAX_SECTIONS,
+};
 pub use table::{InputId, Inputs, OutputId, Outputs, ParamId, Params};
 
 /// Whether a variable may change during the simulation (the model description's

@@ -337,7 +337,10 @@ pub unsafe extern "C" fn fmi3GetFloat64(
 ) -> fmi3Status {
     const F: Function = Function::GetFloat64;
     call(instance, F, |inst, call| {
-        scalar_count(nValueReferences, nValues)?;
+        // A string's arrays: their value references hold all their elements (checked there).
+        if !inst.has_arrays() {
+            scalar_count(nValueReferences, nValues)?;
+        }
         let Some(vrs) = array(valueReferences, nValueReferences) else {
             return Err(Refusal::null("valueReferences", nValueReferences));
         };
@@ -358,7 +361,10 @@ pub unsafe extern "C" fn fmi3SetFloat64(
 ) -> fmi3Status {
     const F: Function = Function::SetFloat64;
     call(instance, F, |inst, call| {
-        scalar_count(nValueReferences, nValues)?;
+        // A string's arrays: their value references hold all their elements (checked there).
+        if !inst.has_arrays() {
+            scalar_count(nValueReferences, nValues)?;
+        }
         let Some(vrs) = array(valueReferences, nValueReferences) else {
             return Err(Refusal::null("valueReferences", nValueReferences));
         };

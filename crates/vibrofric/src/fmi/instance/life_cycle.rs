@@ -130,8 +130,16 @@ impl Instance {
 
     /// Out of initialization mode: builds the simulator from the staged values.
     pub fn exit_initialization(&mut self, call: Call) -> Answer {
-        let sim = self.build_sim().map_err(Refusal::error)?;
-        self.sim = Some(sim);
+        if self.string.is_some() {
+            let sim = self.build_string_sim().map_err(Refusal::error)?;
+            if let Some(part) = self.string.as_mut() {
+                part.sim = Some(sim);
+                part.derivs.clear();
+            }
+        } else {
+            let sim = self.build_sim().map_err(Refusal::error)?;
+            self.sim = Some(sim);
+        }
         self.provisional = None;
         self.st.derivs = [None; InputId::ALL.len()];
         self.st.state = match self.interface {
@@ -159,6 +167,11 @@ impl Instance {
     pub fn reset(&mut self, call: Call) -> Answer {
         self.st = Staged::initial(&self.scene);
         self.sim = None;
+        self.string = self
+            .scene
+            .string
+            .clone()
+            .map(super::string::StringPart::new);
         self.provisional = None;
         self.error_cause = None;
         self.event(|| format!("{}: start values restored", call.name));

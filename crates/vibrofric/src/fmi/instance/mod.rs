@@ -23,6 +23,7 @@ mod life_cycle;
 mod model_exchange;
 mod saved_states;
 mod stepping;
+mod string;
 mod values;
 
 pub use model_exchange::EventInfo;
@@ -53,6 +54,8 @@ pub struct Instance {
     categories: [bool; 4],
     st: Staged,
     sim: Option<Box<dyn Simulator>>,
+    /// A string scene's values and simulator (`string.rs`); `None` for a single contact.
+    string: Option<string::StringPart>,
     /// Simulator built from the staged values to answer a get before the real one exists
     /// (without the rules between parameters, see `simulator_now`); dropped whenever a staged
     /// value changes.
@@ -94,6 +97,12 @@ impl Instance {
                 return None;
             }
         };
+        if scene.string.is_some() && interface == Interface::ModelExchange {
+            let error = Category::StatusError.name();
+            let msg = format!("{}: {} is a string of contacts, which offers Co-Simulation only (its model description has no ModelExchange element)", call.name, scene.model_identifier);
+            logger.log(Status::Error, error, &msg);
+            return None;
+        }
         let mut vars: Vec<&'static Variable> = scene.variables().collect();
         vars.sort_by_key(|v| v.vr);
         let states = scene
@@ -109,6 +118,7 @@ impl Instance {
             states,
             st: Staged::initial(&scene),
             guid: xml::guid(&scene),
+            string: scene.string.clone().map(string::StringPart::new),
             scene,
             vars,
             logger,
@@ -173,7 +183,10 @@ impl Instance {
 
     /// The instance's time: the simulator's, or the start time before it exists.
     pub fn time(&self) -> f64 {
-        self.sim.as_ref().map_or(self.st.start_time, |s| s.time())
+        match self.string.as_ref().and_then(|p| p.sim.as_ref()) {
+            Some(s) => s.time(),
+            None => self.sim.as_ref().map_or(self.st.start_time, |s| s.time()),
+        }
     }
 
     // ---- the entry of every call -------------------------------------------------------------

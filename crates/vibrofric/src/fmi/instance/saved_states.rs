@@ -18,6 +18,7 @@ impl Instance {
             edition: call.words.edition.to_string(),
             staged: self.st,
             sim: self.sim.as_ref().map(|s| s.snapshot()),
+            string: self.string.as_ref().map(|p| p.saved()),
         };
         self.event(|| {
             format!(
@@ -65,7 +66,9 @@ impl Instance {
 
     /// Restores a saved state (`fmi2SetFMUstate`, `fmi3SetFMUState`).
     pub fn restore_state(&mut self, call: Call, s: &FmuState) -> Answer {
-        self.sim = self.simulator_of(call, s)?;
+        let sim = self.simulator_of(call, s)?;
+        self.string = self.string_part_of(s)?;
+        self.sim = sim;
         self.st = s.staged;
         self.provisional = None;
         self.error_cause = None;
@@ -80,6 +83,17 @@ impl Instance {
         Ok(Status::Ok)
     }
 
+    /// The string's part of a state, checked and built (`None` for a single contact).
+    fn string_part_of(&self, s: &FmuState) -> Answer<Option<super::string::StringPart>> {
+        match (&self.string, &s.string) {
+            (None, None) => Ok(None),
+            (Some(_), Some(saved)) => self.string_of(&s.staged, saved).map(Some),
+            _ => Err(Refusal::error(
+                "the state and this instance disagree on being a string of contacts",
+            )),
+        }
+    }
+
     /// The bytes of a state.
     pub fn serialize_state(&self, s: &FmuState) -> Vec<u8> {
         saved::encode(s)
@@ -89,6 +103,7 @@ impl Instance {
     pub fn deserialize_state(&self, call: Call, bytes: &[u8]) -> Answer<FmuState> {
         let s = saved::decode(bytes).map_err(Refusal::error)?;
         self.simulator_of(call, &s)?;
+        self.string_part_of(&s)?;
         Ok(s)
     }
 }

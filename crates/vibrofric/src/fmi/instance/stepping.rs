@@ -38,7 +38,11 @@ impl Instance {
                 )));
             }
         }
-        match self.simulator("state StepComplete")?.step_to(target) {
+        let stepped = match self.string.as_mut().and_then(|p| p.sim.as_mut()) {
+            Some(sim) => sim.step_to(target),
+            None => self.simulator("state StepComplete")?.step_to(target),
+        };
+        match stepped {
             Ok(()) => {
                 self.trace(|| format!("{}: t = {current} -> {target}", call.name));
                 Ok(Status::Ok)

@@ -50,6 +50,9 @@ impl Instance {
     /// not fail on what it evaluates: the values as they stand, and where one cannot be
     /// evaluated (non-finite), the one of the scene's start values, with a warning naming it.
     pub fn get_values(&mut self, call: Call, vrs: &[u32], values: &mut [f64]) -> Answer {
+        if self.string.is_some() {
+            return self.string_get(call, vrs, values);
+        }
         let named = vrs
             .iter()
             .map(|&vr| self.named(call, vr))
@@ -189,6 +192,9 @@ impl Instance {
     /// Real values by value reference (`fmi2SetReal`, `fmi3SetFloat64`): every value is checked
     /// before any is written.
     pub fn set_values(&mut self, call: Call, vrs: &[u32], values: &[f64]) -> Answer {
+        if self.string.is_some() {
+            return self.string_set(call, vrs, values);
+        }
         let plan = vrs
             .iter()
             .zip(values)
@@ -281,6 +287,9 @@ impl Instance {
     /// First derivatives of inputs (`fmi2SetRealInputDerivatives`), used to extrapolate them
     /// linearly over the next step.
     pub fn set_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[f64]) -> Answer {
+        if self.string.is_some() {
+            return self.string_set_input_derivatives(vrs, orders, values);
+        }
         let config = self.scene.config;
         let mut plan = Vec::with_capacity(vrs.len());
         for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
@@ -341,6 +350,11 @@ impl Instance {
         orders: &[i32],
         values: &mut [f64],
     ) -> Answer {
+        if self.string.is_some() && !vrs.is_empty() {
+            return Err(Refusal::error(
+                "a string of contacts provides no output derivatives (maxOutputDerivativeOrder = 0)",
+            ));
+        }
         let config = self.scene.config;
         let mut found = Vec::with_capacity(vrs.len());
         for (&vr, &order) in vrs.iter().zip(orders) {

@@ -22,13 +22,13 @@ pub use equations::{Links, Section, StringInputs, StringModel, PER_SECTION};
 use crate::physics::{Dahl, Dupont, FrictionLaw, Harmonic, InputTrack, LuGre};
 use crate::solver::band::{Accepted, BandRadau, BandSystem, BandWork};
 use crate::solver::{SolverError, SolverStats, Workspace, B, C};
-use crate::table::{number, InputId, Law, ParamId, Params};
+use crate::table::{number, InputId, Law, ParamId, Params, StringValues, StringVar};
 
 use super::simulator::{SimError, StepStats, TOLERANCE_RANGE};
 use super::time::MAX_INPUT_RATE;
 
-/// Most sections a string may have.
-pub const MAX_SECTIONS: usize = 100_000;
+/// Most sections a string may have (declared with the string's variables).
+pub use crate::table::MAX_SECTIONS;
 
 /// What a string is made of: the law, whether the support vibrates harmonically (the same
 /// source under every section) and whether the normal forces are inputs.
@@ -70,6 +70,28 @@ impl StringParams {
                 c_top: 0.0,
                 k_bottom: 0.0,
                 c_bottom: 0.0,
+            },
+        }
+    }
+
+    /// A string's parameters from a scene's values: the law's shared parameters, each
+    /// section's `m`, `mu`, `F_S` and the links and ends from `v`, and each section's load
+    /// `f_n` (where the normal force is an input, the scene's start values: the load at which
+    /// `F_S` and `zeta_t` are given).
+    pub fn from_values(shared: Params, v: &StringValues, f_n: &[f64]) -> Self {
+        StringParams {
+            shared,
+            m: v.get(StringVar::M).to_vec(),
+            mu: v.get(StringVar::Mu).to_vec(),
+            f_n: f_n.to_vec(),
+            f_s: v.get(StringVar::FS).to_vec(),
+            links: Links {
+                k_s: v.get(StringVar::KS).to_vec(),
+                c_s: v.get(StringVar::CS).to_vec(),
+                k_top: v.one(StringVar::KTop),
+                c_top: v.one(StringVar::CTop),
+                k_bottom: v.one(StringVar::KBottom),
+                c_bottom: v.one(StringVar::CBottom),
             },
         }
     }
@@ -245,6 +267,12 @@ pub trait StringSimulator: Send {
         0
     }
     fn clone_box(&self) -> Box<dyn StringSimulator>;
+    /// The string's complete state as numbers (the integrator's, the input tracks, the step
+    /// means): [`StringSimulator::restore`] into a string built from the same configuration and
+    /// parameters continues bit for bit.
+    fn save(&self) -> Vec<f64>;
+    /// Restores what [`StringSimulator::save`] wrote; an error leaves the string as it was.
+    fn restore(&mut self, data: &[f64]) -> Result<(), SimError>;
 }
 
 /// Builds a string at rest at the origin (zero deformation, zero inputs, the load inputs at the
@@ -608,5 +636,63 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
 
     fn clone_box(&self) -> Box<dyn StringSimulator> {
         Box::new(self.clone())
+    }
+
+    fn save(&self) -> Vec<f64> {
+        let mut out = vec![];
+        self.radau.save(&mut out);
+        let inp = &self.model.inputs;
+        for tr in inp
+            .f_d
+            .iter()
+            .chain(&inp.v_sx)
+            .chain(&inp.f_n)
+            .chain([&inp.v_top, &inp.v_bottom])
+        {
+            out.extend_from_slice(&[tr.t_ref, tr.value, tr.slope]);
+        }
+        out.extend_from_slice(&[inp.x_top_ref, inp.x_bottom_ref]);
+        out.extend(self.integrals.iter().chain(&self.means));
+        out
+    }
+
+    fn restore(&mut self, data: &[f64]) -> Result<(), SimError> {
+        let bad = |why: &str| SimError::Inconsistent(format!("the saved string state {why}"));
+        let n = self.model.n();
+        let dim = PER_SECTION * n;
+        let radau_len = BandRadau::saved_len(dim);
+        let tracks = 2 * n + self.model.inputs.f_n.len() + 2;
+        if data.len() != radau_len + 3 * tracks + 2 + 2 * (n + 2) {
+            return Err(bad("has the wrong length for this string"));
+        }
+        if data.iter().any(|x| !x.is_finite()) {
+            return Err(bad("holds a number that is not finite"));
+        }
+        let radau = BandRadau::load(&data[..radau_len], dim, self.radau.step_limit)
+            .ok_or_else(|| bad("does not describe this string's integrator"))?;
+        let mut inputs = self.model.inputs.clone();
+        let mut it = data[radau_len..].chunks(3);
+        for tr in inputs
+            .f_d
+            .iter_mut()
+            .chain(inputs.v_sx.iter_mut())
+            .chain(inputs.f_n.iter_mut())
+            .chain([&mut inputs.v_top, &mut inputs.v_bottom])
+        {
+            let c = it.next().ok_or_else(|| bad("is truncated"))?;
+            *tr = InputTrack {
+                t_ref: c[0],
+                value: c[1],
+                slope: c[2],
+            };
+        }
+        let rest = &data[radau_len + 3 * tracks..];
+        inputs.x_top_ref = rest[0];
+        inputs.x_bottom_ref = rest[1];
+        self.integrals = rest[2..2 + n + 2].to_vec();
+        self.means = rest[2 + n + 2..].to_vec();
+        self.model.inputs = inputs;
+        self.radau = radau;
+        Ok(())
     }
 }
