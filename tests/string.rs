@@ -426,3 +426,58 @@ fn bad_values_are_refused_by_name_and_index() {
     assert_eq!(sim.outputs(), before);
     assert_eq!(sim.time(), 1e-3);
 }
+
+/// A section whose normal force input falls to 0 (lifted off the wall) carries no friction
+/// from then on, and the string runs on; set back, its friction returns within the Coulomb
+/// force of its load. Against the load scaling of the law: `F_C = mu·F_N`.
+#[test]
+fn a_section_lifted_off_the_wall_carries_no_friction() {
+    let pipe = pipe(8);
+    let config = StringConfig {
+        law: Law::LuGre,
+        harmonic: false,
+        normal_input: true,
+    };
+    let mut sim = build_string(config, pipe.params(), 0.0, 1e-6).unwrap();
+    sim.set_input(StringInput::VTop, V_TOP).unwrap();
+    let h = 1e-3;
+    let lifted = 3;
+    let mut t = 0.0;
+    let mut step = |sim: &mut Box<dyn StringSimulator>, t: &mut f64| {
+        *t += h;
+        sim.step_to(*t).unwrap();
+        sim.outputs()
+    };
+    for _ in 0..200 {
+        step(&mut sim, &mut t);
+    }
+    sim.set_input(StringInput::Fn(lifted), 0.0).unwrap();
+    for k in 0..100 {
+        let o = step(&mut sim, &mut t);
+        for i in 0..pipe.n {
+            assert!(o.f_fx[i].is_finite() && o.f_fx_step[i].is_finite());
+        }
+        // After the deformation's relaxation (a few steps) the lifted section carries nothing.
+        if k >= 5 {
+            assert!(
+                o.f_fx_step[lifted].abs() < 1e-6 * MU * F_N,
+                "step {k}: F_Fx_step[{}] = {} N with no load",
+                lifted + 1,
+                o.f_fx_step[lifted]
+            );
+        }
+    }
+    // Half the load back: the friction returns within the Coulomb force of that load (the
+    // static force 1.3·F_C while it sticks).
+    sim.set_input(StringInput::Fn(lifted), 0.5 * F_N).unwrap();
+    let mut worst: f64 = 0.0;
+    for _ in 0..100 {
+        let o = step(&mut sim, &mut t);
+        worst = worst.max(o.f_fx_step[lifted].abs());
+    }
+    let f_s_half = 1.3 * MU * 0.5 * F_N;
+    assert!(
+        worst > 0.0 && worst <= f_s_half * (1.0 + 1e-6),
+        "friction {worst} N against the static force {f_s_half} N at half the load"
+    );
+}
