@@ -22,7 +22,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             .harmonic
             .unwrap_or(Harmonic::new(0.0, 0.0, 0.0, 0.0, 0.0));
         let mut integrator = Vec::with_capacity(Radau5::<N>::SAVED_LEN);
-        self.radau.save(&mut integrator);
+        self.paths
+            .radau
+            .integrator(&self.state)
+            .save(&mut integrator);
         ContactState {
             config: self.config,
             params: self.params,
@@ -186,10 +189,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             acc: w.acc,
             last: w.last,
         };
-        c.radau = radau;
+        // The integrator's numbers: the shared state and the Radau path's history.
+        let (state, history) = paths::split_integrator(radau);
+        c.state = state;
         // The same breakaway ratio: the same shape, without fitting it again.
         let same_shape = c.params.r_ba == self.params.r_ba;
-        let kept = Saved::new(s.exp_h, s.direction);
+        let kept = Saved::new(s.exp_h, s.direction, history);
         c.paths.load(&self.paths, kept, same_shape);
         c.step = StepMean {
             acc: [0.0; MAX_QUAD],
