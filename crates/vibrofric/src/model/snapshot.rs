@@ -113,53 +113,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             ));
         }
         let mut c = Contact::<V, L, D, N>::new_local(self.config, params, radau.tolerance());
-        // The averaging window: the length the parameters give, an index within range, the
-        // current time inside the window.
+        check_window(s, c.window.len, radau.t, free_time)?;
         let w = &s.window;
-        if w.len != c.window.len {
-            return bad(format!(
-                "window length = {}: the parameters give {}",
-                w.len, c.window.len
-            ));
-        }
-        if w.index as f64 > WINDOWS_MAX {
-            return bad(format!(
-                "window index = {}: must be at most {WINDOWS_MAX:e}",
-                w.index
-            ));
-        }
-        if (s.t_abs - s.epoch - radau.t).abs() > 1e-9 * s.t_abs.abs().max(1.0) {
-            return bad(format!(
-                "time {} is not the start time {} plus the integrator's time {}",
-                s.t_abs, s.epoch, radau.t
-            ));
-        }
-        let t = radau.t;
-        if free_time {
-            // As `set_time` checks the time an importer sets.
-            let windows = (t - w.origin).abs() / w.len;
-            if windows.is_nan() || windows > WINDOWS_MAX {
-                return bad(format!(
-                    "time {} is {windows:e} averaging windows from the window origin {}: at most {WINDOWS_MAX:e}",
-                    s.t_abs,
-                    s.epoch + w.origin
-                ));
-            }
-        } else {
-            // Stepping ends inside the window in progress, or on its start within the
-            // rounding `step_to` takes as on a boundary: the same arithmetic here.
-            let (w_start, w_end) = (
-                w.origin + w.index as f64 * w.len,
-                w.origin + (w.index + 1) as f64 * w.len,
-            );
-            let on_start = t >= w_start || (w_start - t).abs() <= boundary_snap(t, s.t_abs, w.len);
-            if !(on_start && t <= w_end) {
-                return bad(format!(
-                    "time {} outside the averaging window [{w_start}, {w_end}]",
-                    t
-                ));
-            }
-        }
         if paths::step_proposal(s.exp_h).to_bits() != s.exp_h.to_bits() {
             return bad(format!(
                 "step proposal of the explicit paths = {}: must be a length >= 0, or +inf where nothing bounds the step",
@@ -210,4 +165,57 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         c.update_scale();
         Ok(c)
     }
+}
+
+/// Checks a saved state's averaging window (`len`: the length the parameters give) and its
+/// time `t` in the contact's own time.
+fn check_window(s: &ContactState, len: f64, t: f64, free_time: bool) -> Result<(), SimError> {
+    let bad = |what: String| Err(SimError::BadSnapshot(what));
+    // The averaging window: the length the parameters give, an index within range, the
+    // current time inside the window.
+    let w = &s.window;
+    if w.len != len {
+        return bad(format!(
+            "window length = {}: the parameters give {}",
+            w.len, len
+        ));
+    }
+    if w.index as f64 > WINDOWS_MAX {
+        return bad(format!(
+            "window index = {}: must be at most {WINDOWS_MAX:e}",
+            w.index
+        ));
+    }
+    if (s.t_abs - s.epoch - t).abs() > 1e-9 * s.t_abs.abs().max(1.0) {
+        return bad(format!(
+            "time {} is not the start time {} plus the integrator's time {}",
+            s.t_abs, s.epoch, t
+        ));
+    }
+    if free_time {
+        // As `set_time` checks the time an importer sets.
+        let windows = (t - w.origin).abs() / w.len;
+        if windows.is_nan() || windows > WINDOWS_MAX {
+            return bad(format!(
+                "time {} is {windows:e} averaging windows from the window origin {}: at most {WINDOWS_MAX:e}",
+                s.t_abs,
+                s.epoch + w.origin
+            ));
+        }
+    } else {
+        // Stepping ends inside the window in progress, or on its start within the
+        // rounding `step_to` takes as on a boundary: the same arithmetic here.
+        let (w_start, w_end) = (
+            w.origin + w.index as f64 * w.len,
+            w.origin + (w.index + 1) as f64 * w.len,
+        );
+        let on_start = t >= w_start || (w_start - t).abs() <= boundary_snap(t, s.t_abs, w.len);
+        if !(on_start && t <= w_end) {
+            return bad(format!(
+                "time {} outside the averaging window [{w_start}, {w_end}]",
+                t
+            ));
+        }
+    }
+    Ok(())
 }
