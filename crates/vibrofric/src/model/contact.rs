@@ -21,7 +21,7 @@ use super::time::{boundary_snap, canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{affine_sums, StepMean, Window};
 use crate::physics::{FrictionLaw, Harmonic, InputTrack, Vector, NO_FRICTION_LENGTH};
 use crate::solver::{OdeSystem, Quad, SolverError, SolverStats, MAX_QUAD, MAX_SWITCH};
-use crate::table::{Config, InputId, Inputs, OutputId, Outputs, ParamId, Params};
+use crate::table::{Config, Drive, InputId, Inputs, OutputId, Outputs, ParamId, Params};
 
 /// What every path reads of a contact ([`Shared`]), from its fields.
 macro_rules! shared {
@@ -600,7 +600,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         let f_mean = self.f_mean();
         let f_c = self.dynamics.f_c_at(self.state.t);
         let f_d = match self.config.drive {
-            super::Drive::Velocity => e.f.x(),
+            Drive::Velocity => e.f.x(),
             _ => self.dynamics.drive.drive_force(body, &e.drive),
         };
         let step_mean = self.step.last.unwrap_or([e.f.x(), e.f.y()]);

@@ -6,7 +6,7 @@
 use super::contact::Contact;
 use super::drive::DriveKind;
 use super::paths::{self, Saved};
-use super::simulator::SimError;
+use super::simulator::{SimError, TOLERANCE_RANGE};
 use super::state::{ContactState, StepMeanState, WindowState};
 use super::time::{boundary_snap, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{StepMean, Window};
@@ -105,7 +105,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         }
         let radau = Radau5::<N>::load(&s.integrator)
             .ok_or(SimError::BadSnapshot("integrator state".into()))?;
-        let (lo, hi) = super::TOLERANCE_RANGE;
+        let (lo, hi) = TOLERANCE_RANGE;
         if !(lo..=hi).contains(&radau.tolerance()) {
             return bad(format!(
                 "tolerance = {}: must be in [{lo:e}, {hi:e}]",
