@@ -140,6 +140,16 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
     write_log_categories(w)?;
     write_default_experiment(w)?;
 
+    write_variables(w, scene, &vars)?;
+    write_structure(w, scene, &vars)?;
+
+    close(w, "fmiModelDescription")
+}
+
+/// `ModelVariables`: each `ScalarVariable` with its index as a comment, its `Real` with unit,
+/// range and start.
+fn write_variables(w: &mut W, scene: &Scene, vars: &[&'static Variable]) -> std::io::Result<()> {
+    let c = &scene.config;
     open(w, "ModelVariables", &[])?;
     for (i, v) in vars.iter().enumerate() {
         w.write_event(Event::Comment(quick_xml::events::BytesText::new(&format!(
@@ -182,7 +192,7 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
         // A derivative names its state by the state's 1-based index.
         let state_index = v
             .derivative_of()
-            .and_then(|x| indices(&vars, &[x.vr()]).first().map(|i| i.to_string()));
+            .and_then(|x| indices(vars, &[x.vr()]).first().map(|i| i.to_string()));
         if let Some(i) = &state_index {
             real.insert(0, ("derivative", i.as_str()));
         }
@@ -190,7 +200,13 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
         close(w, "ScalarVariable")?;
     }
     close(w, "ModelVariables")?;
+    Ok(())
+}
 
+/// `ModelStructure`: the outputs, the derivatives and the initial unknowns with their
+/// dependencies, by 1-based index.
+fn write_structure(w: &mut W, scene: &Scene, vars: &[&'static Variable]) -> std::io::Result<()> {
+    let c = &scene.config;
     open(w, "ModelStructure", &[])?;
     let outputs: Vec<(usize, &&Variable)> = vars
         .iter()
@@ -201,7 +217,7 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
     open(w, "Outputs", &[])?;
     for (index, v) in &outputs {
         let vrs = v.known_dependencies(c, &scene.outputs);
-        let deps = joined(&indices(&vars, &vrs));
+        let deps = joined(&indices(vars, &vrs));
         let index = index.to_string();
         empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
     }
@@ -216,7 +232,7 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
     open(w, "Derivatives", &[])?;
     for (index, v) in &derivatives {
         let vrs = v.known_dependencies(c, &scene.outputs);
-        let deps = joined(&indices(&vars, &vrs));
+        let deps = joined(&indices(vars, &vrs));
         let index = index.to_string();
         empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
     }
@@ -227,7 +243,7 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
             continue;
         }
         let vrs: Vec<u32> = v.initial_dependencies(c).iter().map(|d| d.vr()).collect();
-        let deps = joined(&indices(&vars, &vrs));
+        let deps = joined(&indices(vars, &vrs));
         let index = index.to_string();
         empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
     }
@@ -243,6 +259,5 @@ fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
     }
     close(w, "InitialUnknowns")?;
     close(w, "ModelStructure")?;
-
-    close(w, "fmiModelDescription")
+    Ok(())
 }

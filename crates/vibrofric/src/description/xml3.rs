@@ -64,7 +64,6 @@ fn joined(vrs: &[u32]) -> String {
 }
 
 fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
-    let c = &scene.config;
     let vars: Vec<&'static Variable> = scene.variables().collect();
     w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)))?;
     let tool = generation_tool();
@@ -143,6 +142,14 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
     write_log_categories(w)?;
     write_default_experiment(w)?;
 
+    write_variables(w, scene, &vars)?;
+    write_structure(w, scene, &vars)?;
+    close(w, "fmiModelDescription")
+}
+
+/// `ModelVariables`: `time`, then the scene's variables with their types, ranges and starts.
+fn write_variables(w: &mut W, scene: &Scene, vars: &[&'static Variable]) -> std::io::Result<()> {
+    let c = &scene.config;
     open(w, "ModelVariables", &[])?;
     empty(
         w,
@@ -156,7 +163,7 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
             ("declaredType", "s"),
         ],
     )?;
-    for v in &vars {
+    for v in vars {
         let vr = v.vr.to_string();
         let mut attrs: Vec<(&str, String)> = vec![
             ("name", v.name().into()),
@@ -192,7 +199,13 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
         empty(w, "Float64", &refs)?;
     }
     close(w, "ModelVariables")?;
+    Ok(())
+}
 
+/// `ModelStructure`: the outputs, the derivatives, the initial unknowns and the event
+/// indicators with their dependencies.
+fn write_structure(w: &mut W, scene: &Scene, vars: &[&'static Variable]) -> std::io::Result<()> {
+    let c = &scene.config;
     open(w, "ModelStructure", &[])?;
     let outputs: Vec<&&Variable> = vars
         .iter()
@@ -230,7 +243,7 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
         )?;
     }
     // The states start at 0; their derivatives depend at the start on parameters and inputs.
-    for v in &vars {
+    for v in vars {
         let vr = v.vr.to_string();
         match v.kind {
             VarKind::State(_) => empty(
@@ -256,5 +269,5 @@ fn write_into(w: &mut W, scene: &Scene, token: &str) -> std::io::Result<()> {
         )?;
     }
     close(w, "ModelStructure")?;
-    close(w, "fmiModelDescription")
+    Ok(())
 }

@@ -14,14 +14,14 @@ use nalgebra::SVector;
 use super::drive::DriveKind;
 use super::dynamics::{lift_off, Dynamics, Eval, System};
 use super::ode::{ContactOde, Ode};
-use super::paths::{self, Kept, Shared};
+use super::paths::{self, Integrated, Kept, Shared};
 use super::simulator::{Integrator, SimError, Simulator, StepStats};
 use super::state::ContactState;
 use super::time::{boundary_snap, canonical_time, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{affine_sums, StepMean, Window};
 use crate::physics::{FrictionLaw, Harmonic, InputTrack, Vector, NO_FRICTION_LENGTH};
-use crate::solver::{OdeSystem, Quad, Radau5, SolverError, SolverStats, MAX_QUAD, MAX_SWITCH};
-use crate::table::{Config, InputId, Inputs, OutputId, Outputs, ParamId, Params};
+use crate::solver::{OdeSystem, Quad, SolverError, SolverStats, MAX_QUAD, MAX_SWITCH};
+use crate::table::{Config, Drive, InputId, Inputs, OutputId, Outputs, ParamId, Params};
 
 /// What every path reads of a contact ([`Shared`]), from its fields.
 macro_rules! shared {
@@ -50,11 +50,12 @@ pub struct Contact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     pub(super) force_scale: f64,
     /// Natural magnitudes of the switching functions `v_rx` and `s·v_r`.
     pub(super) switch_scale: [f64; MAX_SWITCH],
-    /// The integrated state (time, state vector, work counters, tolerance, work limit) with
-    /// Radau's own history.
-    pub(super) radau: Radau5<N>,
-    /// What the paths keep between calls (`paths/`).
-    pub(super) paths: Kept,
+    /// What every path shares: the integrated state (time, state vector, work counters,
+    /// tolerance, work limit), lent to the path that advances it.
+    pub(super) state: Integrated<N>,
+    /// What each path keeps of its own between calls (`paths/`: the explicit path's branch,
+    /// Radau's history, ...), lent with the state.
+    pub(super) paths: Kept<N>,
     pub(super) window: Window,
     pub(super) step: StepMean,
     /// The start time: every time inside the contact (integrator, input tracks, harmonic
@@ -122,8 +123,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             scale: [0.0; N],
             force_scale: 0.0,
             switch_scale: [0.0; MAX_SWITCH],
-            radau: Radau5::new(t_start, SVector::zeros(), tolerance),
-            paths: Kept::new(N),
+            state: Integrated::new(t_start, SVector::zeros(), tolerance),
+            paths: Kept::new(tolerance),
             window: Window {
                 origin: t_start,
                 len: 0.0,
@@ -148,16 +149,16 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         if self.dynamics.load.is_none() {
             return;
         }
-        self.dynamics.lifted = self.dynamics.off_at(self.radau.t);
+        self.dynamics.lifted = self.dynamics.off_at(self.state.t);
         self.clear_deformation_if_lifted();
     }
 
     /// A body off the support has no deformation.
     fn clear_deformation_if_lifted(&mut self) {
         if self.dynamics.lifted {
-            let mut y = self.radau.y;
+            let mut y = self.state.y;
             y.as_mut_slice()[..V::DIM].fill(0.0);
-            self.radau.y = y;
+            self.state.y = y;
         }
     }
 
@@ -191,8 +192,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
 
     /// What every path reads of the contact, with the state and what the paths keep, for a
     /// path to advance.
-    fn lend(&mut self) -> (Shared<'_, V, L, D, N>, &mut Radau5<N>, &mut Kept) {
-        (shared!(self), &mut self.radau, &mut self.paths)
+    fn lend(&mut self) -> (Shared<'_, V, L, D, N>, &mut Integrated<N>, &mut Kept<N>) {
+        (shared!(self), &mut self.state, &mut self.paths)
     }
 
     pub(super) fn system(&self) -> System<'_, V, L, D> {
@@ -201,7 +202,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
 
     /// The path the contact takes now (`paths::choose`).
     fn path(&self) -> Integrator {
-        paths::choose(&self.shared(), &self.radau, &self.paths)
+        paths::choose(&self.shared(), &self.state, &self.paths)
     }
 
     /// Longest step that cannot hide a pair of sign changes of `v_r` from the harmonic source.
@@ -214,7 +215,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
 
     /// Everything at the current time and state.
     pub(super) fn eval_now(&self) -> Eval<V> {
-        self.system().eval(self.radau.t, self.radau.y.as_slice())
+        self.system().eval(self.state.t, self.state.y.as_slice())
     }
 
     fn track_index(&self, id: InputId) -> Result<usize, SimError> {
@@ -234,22 +235,22 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
     /// forcing is periodic in the window: `m` maps compose in closed form. The first window is
     /// integrated to learn `L` and `beta`; the windows skipped leave no mean.
     fn skip_windows(&mut self, m: u64, h_max: f64) -> Result<(), SimError> {
-        let s0 = V::read(self.radau.y.as_slice());
+        let s0 = V::read(self.state.y.as_slice());
         let t_b = self.window.end();
         // The window's integral is affine in its initial deformation too, `I(s) = I_p + G·s`
         // with a scalar `G = ∫ ∂F/∂s·exp(−Λ(t)) dt`: a second run from `s0 + δ·e_x` gives `G`.
-        let before = (self.radau, self.paths.h);
+        let before = (self.state, self.paths.h);
         let delta = self.scale[0];
-        let mut y = self.radau.y;
+        let mut y = self.state.y;
         y[0] += delta;
-        self.radau.y = y;
+        self.state.y = y;
         let probe = self.advance_window(t_b, h_max)?.1;
-        let probe_stats = self.radau.stats;
-        (self.radau, self.paths.h) = before;
-        self.radau.stats = probe_stats;
+        let probe_stats = self.state.stats;
+        (self.state, self.paths.h) = before;
+        self.state.stats = probe_stats;
         let (decay, integral) = self.advance_window(t_b, h_max)?;
         let g = (probe[0] - integral[0]) / delta;
-        let s1 = V::read(self.radau.y.as_slice());
+        let s1 = V::read(self.state.y.as_slice());
         let k = (m - 1) as f64;
         let beta = s1 - s0 * libm::exp(-decay);
         // Σ_{j<k} exp(−j·L) = (1 − exp(−k·L))/(1 − exp(−L)), k when L = 0.
@@ -269,27 +270,27 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         self.window.last = Some(integral[0] / self.window.len);
         self.window.acc = 0.0;
         self.window.index += m;
-        self.radau.t = self.window.start();
-        let mut y = self.radau.y;
+        self.state.t = self.window.start();
+        let mut y = self.state.y;
         s.write(y.as_mut_slice());
-        OdeSystem::<N>::project(&self.system(), self.radau.t, &mut y);
-        self.radau.y = y;
-        self.radau.stats.steps += 1;
+        OdeSystem::<N>::project(&self.system(), self.state.t, &mut y);
+        self.state.y = y;
+        self.state.stats.steps += 1;
         Ok(())
     }
 
     /// Advances a path whose map of a window is affine to `t_target`: the decay and `∫F_F dt`.
     fn advance_window(&mut self, t_target: f64, h_max: f64) -> Result<(f64, Quad), SimError> {
-        let (shared, radau, kept) = self.lend();
-        paths::advance_affine(&shared, radau, kept, t_target, h_max)
+        let (shared, state, kept) = self.lend();
+        paths::advance_affine(&shared, state, kept, t_target, h_max)
     }
 
     /// Integrates to `t_target` (≤ the current window's end) on the path the contact takes
     /// now, accumulating `∫F_F dt` in the window and the communication step.
     fn integrate(&mut self, t_target: f64, h_max: f64) -> Result<(), SimError> {
         let path = self.path();
-        let (shared, radau, kept) = self.lend();
-        let integral = paths::advance(path, &shared, radau, kept, t_target, h_max)?;
+        let (shared, state, kept) = self.lend();
+        let integral = paths::advance(path, &shared, state, kept, t_target, h_max)?;
         self.window.acc += integral[0];
         self.step.acc[0] += integral[0];
         self.step.acc[1] += integral[1];
@@ -307,21 +308,21 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         h_max: f64,
         limit: u64,
     ) -> Result<(), SimError> {
-        while self.radau.t < t_end {
-            let st = &self.radau.stats;
+        while self.state.t < t_end {
+            let st = &self.state.stats;
             if st.steps + st.rejected >= limit {
                 return Err(SimError::Solver(SolverError::WorkLimit {
-                    t: self.radau.t,
+                    t: self.state.t,
                     limit: self.params.max_steps,
                 }));
             }
             // Many whole windows ahead with the forcing periodic: skip all but the last
             // (whose mean is the output) in O(1).
-            let whole = ((t_end - self.radau.t) / self.window.len).floor();
+            let whole = ((t_end - self.state.t) / self.window.len).floor();
             if whole >= 3.0
-                && self.radau.t == self.window.start()
+                && self.state.t == self.window.start()
                 && self.inputs_held()
-                && paths::windows_affine(&self.shared(), &self.radau, &self.paths)
+                && paths::windows_affine(&self.shared(), &self.state, &self.paths)
             {
                 self.skip_windows(whole as u64 - 1, h_max)?;
                 continue;
@@ -333,7 +334,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                 t_b = t_end;
             }
             let mut target = t_b.min(t_end);
-            let load_event = self.dynamics.load_event(self.radau.t, target);
+            let load_event = self.dynamics.load_event(self.state.t, target);
             if let Some(t_event) = load_event {
                 target = t_event;
             }
@@ -341,7 +342,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             if load_event.is_some() {
                 self.dynamics.lifted = !self.dynamics.lifted;
                 self.clear_deformation_if_lifted();
-                self.radau.restart();
+                self.state.restart();
             }
             if target == t_b {
                 self.window.last = Some(self.window.acc / self.window.len);
@@ -354,7 +355,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
 
     /// Input derivatives are valid for one step: holds the inputs from the time now on.
     fn hold_inputs(&mut self) {
-        let t = self.radau.t;
+        let t = self.state.t;
         for (k, track) in self.dynamics.tracks.iter_mut().enumerate() {
             if track.slope != 0.0 {
                 if k == 1 {
@@ -362,7 +363,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
                     track.t_ref = t;
                 }
                 track.slope = 0.0;
-                self.radau.restart();
+                self.state.restart();
             }
         }
         // Keep x_kin anchored near the current time for precision.
@@ -375,7 +376,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         if let Some(m) = self.window.last {
             return m;
         }
-        let elapsed = self.radau.t - self.window.start();
+        let elapsed = self.state.t - self.window.start();
         if elapsed > 0.0 {
             self.window.acc / elapsed
         } else {
@@ -417,7 +418,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         if params == self.params {
             return Ok(());
         }
-        let t = self.radau.t;
+        let t = self.state.t;
         self.params = params;
         self.dynamics.law = L::new(&params);
         if let Some(reference) = &mut self.dynamics.load {
@@ -444,9 +445,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         };
         self.window.len = self.window_length();
         self.update_scale();
-        let mut y = self.radau.y;
+        let mut y = self.state.y;
         OdeSystem::<N>::project(&self.system(), t, &mut y);
-        self.radau.set_state(y);
+        self.state.set_state(y);
         Ok(())
     }
 
@@ -455,7 +456,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     }
 
     fn tolerance(&self) -> f64 {
-        self.radau.tolerance()
+        self.state.tolerance()
     }
 
     fn set_input(&mut self, id: InputId, value: f64) -> Result<(), SimError> {
@@ -463,7 +464,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         if !id.rule().holds(value) {
             return Err(SimError::Input { id, value });
         }
-        let t = self.radau.t;
+        let t = self.state.t;
         let track = &mut self.dynamics.tracks[k];
         if track.value.to_bits() == value.to_bits() && track.t_ref == t {
             return Ok(());
@@ -476,7 +477,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         if id == InputId::FN {
             self.update_lifted();
         }
-        self.radau.restart();
+        self.state.restart();
         Ok(())
     }
 
@@ -485,7 +486,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         if !(value.is_finite() && value.abs() <= MAX_INPUT_RATE) {
             return Err(SimError::InputDerivative { id, value });
         }
-        let t = self.radau.t;
+        let t = self.state.t;
         let track = &mut self.dynamics.tracks[k];
         if id == InputId::VD {
             self.dynamics.x_kin_ref += track.integral(t);
@@ -496,7 +497,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         if id == InputId::FN {
             self.update_lifted();
         }
-        self.radau.restart();
+        self.state.restart();
         Ok(())
     }
 
@@ -510,7 +511,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
 
     fn step_to(&mut self, t_end: f64) -> Result<(), SimError> {
         let now = self.t_abs;
-        let t0 = self.radau.t;
+        let t0 = self.state.t;
         // In the contact's own time, counted from its start (the subtraction is exact where the
         // importer's times lie near the start or far above it), taken as the short decimal the
         // importer meant where it is one.
@@ -530,7 +531,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         // rounding, relative to the time it counts in.
         let snap = boundary_snap(t_end, t_end_abs, self.window.len);
         let saved = (
-            self.radau,
+            self.state,
             self.window,
             self.paths.save(),
             self.step,
@@ -542,9 +543,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         // The work limit: integrator attempts in this call, on every path.
         let max_steps = self.params.max_steps;
         let work = |s: &SolverStats| s.steps + s.rejected;
-        let work_start = work(&self.radau.stats);
+        let work_start = work(&self.state.stats);
         let limit = work_start.saturating_add(max_steps as u64);
-        self.radau.step_limit = limit;
+        self.state.step_limit = limit;
         let over_limit = |t: f64| {
             SimError::Solver(SolverError::WorkLimit {
                 t,
@@ -562,10 +563,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             if OutputId::ALL.iter().all(|id| id.get(&o).is_finite()) {
                 Ok(())
             } else {
-                Err(SimError::Solver(SolverError::NonFinite { t: self.radau.t }))
+                Err(SimError::Solver(SolverError::NonFinite { t: self.state.t }))
             }
         });
-        self.radau.step_limit = u64::MAX;
+        self.state.step_limit = u64::MAX;
         if let Err(e) = result {
             // Leave the simulator as it was before the call.
             let e = match e {
@@ -574,7 +575,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             };
             let kept;
             (
-                self.radau,
+                self.state,
                 self.window,
                 kept,
                 self.step,
@@ -584,7 +585,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             return Err(e);
         }
         self.t_abs = t_end_abs;
-        let h = self.radau.t - t0;
+        let h = self.state.t - t0;
         self.step.last = Some(self.step.acc.map(|a| a / h));
         self.step.h = h;
         self.step.f_start = [f_start.x(), f_start.y()];
@@ -594,12 +595,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
 
     fn outputs(&self) -> Outputs {
         let e = self.eval_now();
-        let body = &self.radau.y.as_slice()[V::DIM..];
+        let body = &self.state.y.as_slice()[V::DIM..];
         let pos = self.dynamics.drive.position(body, &e.drive);
         let f_mean = self.f_mean();
-        let f_c = self.dynamics.f_c_at(self.radau.t);
+        let f_c = self.dynamics.f_c_at(self.state.t);
         let f_d = match self.config.drive {
-            super::Drive::Velocity => e.f.x(),
+            Drive::Velocity => e.f.x(),
             _ => self.dynamics.drive.drive_force(body, &e.drive),
         };
         let step_mean = self.step.last.unwrap_or([e.f.x(), e.f.y()]);
@@ -618,7 +619,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
             reduction: reduction(f_mean, f_c, self.params.k_t),
             p_diss: self
                 .dynamics
-                .law_at(self.radau.t)
+                .law_at(self.state.t)
                 .dissipation(e.s, e.vr, e.ds),
             f_d,
         }
@@ -631,7 +632,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     /// forces whose rate would need the second derivative of the deformation.
     fn output_derivative(&self, id: OutputId) -> Option<f64> {
         let e = self.eval_now();
-        let body = &self.radau.y.as_slice()[V::DIM..];
+        let body = &self.state.y.as_slice()[V::DIM..];
         let a_d = self.dynamics.tracks[InputId::VD.index()].slope;
         match id {
             OutputId::X => Some(e.v.x()),
@@ -660,7 +661,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
     }
 
     fn stats(&self) -> StepStats {
-        self.radau.stats.into()
+        self.state.stats.into()
     }
 
     fn integrator(&self) -> Integrator {
@@ -684,7 +685,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Simulator for C
         Box::new(ContactOde::<V, L, D, N> {
             dynamics: self.dynamics,
             input_support: self.config.input_support,
-            y: self.radau.y.into(),
+            y: self.state.y.into(),
             scale: self.scale,
         })
     }

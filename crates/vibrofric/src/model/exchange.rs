@@ -76,12 +76,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
 
     /// The imposed position now: the integral of the held `v_d` from its reference.
     fn imposed(&self) -> f64 {
-        self.dynamics.x_kin_ref + self.dynamics.tracks[InputId::VD.index()].integral(self.radau.t)
+        self.dynamics.x_kin_ref + self.dynamics.tracks[InputId::VD.index()].integral(self.state.t)
     }
 
     /// Half-width of the hysteresis band of switching function `k`.
     fn band(&self, k: usize) -> f64 {
-        self.radau.tolerance() * self.switch_scale[k]
+        self.state.tolerance() * self.switch_scale[k]
     }
 
     fn n_switch(&self) -> usize {
@@ -94,7 +94,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
         let mut x = [0.0; StateId::COUNT];
         for id in StateId::ALL {
             x[id.index()] = match self.slot(id) {
-                Some(Slot::Y(i)) => self.radau.y[i],
+                Some(Slot::Y(i)) => self.state.y[i],
                 Some(Slot::Imposed) => self.imposed(),
                 Some(Slot::Window) => self.window.acc,
                 None => 0.0,
@@ -113,11 +113,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
                 });
             }
         }
-        let t = self.radau.t;
+        let t = self.state.t;
         for id in StateId::ALL {
             let value = x[id.index()];
             match self.slot(id) {
-                Some(Slot::Y(i)) => self.radau.y[i] = value,
+                Some(Slot::Y(i)) => self.state.y[i] = value,
                 Some(Slot::Imposed) => {
                     let vd = &mut self.dynamics.tracks[InputId::VD.index()];
                     vd.value = vd.at(t);
@@ -132,9 +132,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
     }
 
     fn derivatives(&self) -> StateVector {
-        let t = self.radau.t;
+        let t = self.state.t;
         let sys = self.system();
-        let y = self.radau.y.as_slice();
+        let y = self.state.y.as_slice();
         let e = sys.eval(t, y);
         let dy = sys.rhs_at::<N>(&e, y);
         let mut dx = [0.0; StateId::COUNT];
@@ -164,12 +164,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
     }
 
     fn out_of_domain(&self) -> Option<String> {
-        let y = self.radau.y.as_slice();
+        let y = self.state.y.as_slice();
         let s = (0..V::DIM).map(|i| y[i] * y[i]).sum::<f64>().sqrt();
         // The largest deformation the law holds at the current load, or at the parameters'
         // (which a falling normal force input leaves behind until the contact slips).
         let envelope =
-            (self.dynamics.law_at(self.radau.t).envelope()).max(self.dynamics.law.envelope());
+            (self.dynamics.law_at(self.state.t).envelope()).max(self.dynamics.law.envelope());
         let limit = DOMAIN_FACTOR * envelope;
         (s > limit || !s.is_finite()).then(|| {
             let names = if V::DIM == 2 { "(s_x, s_y)" } else { "s_x" };
@@ -202,11 +202,11 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
         // imposed position keeps its value (the importer integrates it), the held inputs theirs.
         let x_imposed = self.imposed();
         for track in &mut self.dynamics.tracks {
-            track.value = track.at(self.radau.t);
+            track.value = track.at(self.state.t);
             track.t_ref = local;
         }
         self.dynamics.x_kin_ref = x_imposed;
-        self.radau.t = local;
+        self.state.t = local;
         self.t_abs = t;
         Ok(())
     }
@@ -218,7 +218,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
         if !id.rule().holds(value) {
             return Err(SimError::Input { id, value });
         }
-        let t = self.radau.t;
+        let t = self.state.t;
         let track = &mut self.dynamics.tracks[id.index()];
         if id == InputId::VD {
             self.dynamics.x_kin_ref += track.integral(t);
@@ -230,8 +230,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
     }
 
     fn event_indicators(&self, z: &mut [f64]) {
-        let t = self.radau.t;
-        let g = OdeSystem::<N>::switch(&self.system(), t, &self.radau.y);
+        let t = self.state.t;
+        let g = OdeSystem::<N>::switch(&self.system(), t, &self.state.y);
         let n = self.n_switch();
         for (k, (zk, gk)) in z.iter_mut().zip(g).take(n).enumerate() {
             *zk = gk + self.sides[k] * self.band(k);
@@ -242,7 +242,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
     }
 
     fn update_events(&mut self) -> EventUpdate {
-        let t = self.radau.t;
+        let t = self.state.t;
         let mut changed = false;
         // Windows that have ended (the importer stops at each end: one, unless it overstepped).
         let end = self.window.end();
@@ -256,7 +256,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
         }
         // The sides of the switching functions: a function that left the band (or has no side
         // yet) takes the side it is on.
-        let g = OdeSystem::<N>::switch(&self.system(), t, &self.radau.y);
+        let g = OdeSystem::<N>::switch(&self.system(), t, &self.state.y);
         for (k, &gk) in g.iter().enumerate().take(self.n_switch()) {
             if self.sides[k] == 0.0 || gk * self.sides[k] < -self.band(k) {
                 self.sides[k] = if gk < 0.0 { -1.0 } else { 1.0 };
@@ -268,7 +268,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
             if off != self.dynamics.lifted {
                 self.dynamics.lifted = off;
                 if off {
-                    let y = self.radau.y.as_mut_slice();
+                    let y = self.state.y.as_mut_slice();
                     changed |= y[..V::DIM].iter().any(|s| *s != 0.0);
                     y[..V::DIM].fill(0.0);
                 }
@@ -282,9 +282,9 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Exchange for Co
     }
 
     fn tangent(&self, dx: &StateVector, du: &Inputs) -> (StateVector, Outputs) {
-        let t = self.radau.t;
+        let t = self.state.t;
         let sys = self.system();
-        let y = self.radau.y.as_slice();
+        let y = self.state.y.as_slice();
         let e = sys.eval(t, y);
         let law = self.dynamics.law_at(t);
         let lj: LawJacobian = law.jacobian(e.s, e.vr, e.ds);

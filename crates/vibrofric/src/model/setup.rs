@@ -1,5 +1,6 @@
 //! The one way from a scene's values to a running simulator: [`Setup`].
 
+use super::build::{build_inconsistent, consistent};
 use super::simulator::{SimError, Simulator};
 use crate::table::Params;
 use crate::table::{Config, InputId, Inputs};
@@ -103,9 +104,9 @@ impl Setup {
     pub fn build(&self) -> Result<Box<dyn Simulator>, SimError> {
         let c = self.config;
         if self.consistent {
-            super::consistent(c, &self.params)?;
+            consistent(c, &self.params)?;
         }
-        let mut sim = super::build_inconsistent(
+        let mut sim = build_inconsistent(
             c,
             self.params,
             self.t_start,

@@ -6,7 +6,7 @@
 use super::contact::Contact;
 use super::drive::DriveKind;
 use super::paths::{self, Saved};
-use super::simulator::SimError;
+use super::simulator::{SimError, TOLERANCE_RANGE};
 use super::state::{ContactState, StepMeanState, WindowState};
 use super::time::{boundary_snap, MAX_INPUT_RATE, WINDOWS_MAX};
 use super::window::{StepMean, Window};
@@ -22,7 +22,10 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             .harmonic
             .unwrap_or(Harmonic::new(0.0, 0.0, 0.0, 0.0, 0.0));
         let mut integrator = Vec::with_capacity(Radau5::<N>::SAVED_LEN);
-        self.radau.save(&mut integrator);
+        self.paths
+            .radau
+            .integrator(&self.state)
+            .save(&mut integrator);
         ContactState {
             config: self.config,
             params: self.params,
@@ -102,7 +105,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         }
         let radau = Radau5::<N>::load(&s.integrator)
             .ok_or(SimError::BadSnapshot("integrator state".into()))?;
-        let (lo, hi) = super::TOLERANCE_RANGE;
+        let (lo, hi) = TOLERANCE_RANGE;
         if !(lo..=hi).contains(&radau.tolerance()) {
             return bad(format!(
                 "tolerance = {}: must be in [{lo:e}, {hi:e}]",
@@ -110,53 +113,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             ));
         }
         let mut c = Contact::<V, L, D, N>::new_local(self.config, params, radau.tolerance());
-        // The averaging window: the length the parameters give, an index within range, the
-        // current time inside the window.
+        check_window(s, c.window.len, radau.t, free_time)?;
         let w = &s.window;
-        if w.len != c.window.len {
-            return bad(format!(
-                "window length = {}: the parameters give {}",
-                w.len, c.window.len
-            ));
-        }
-        if w.index as f64 > WINDOWS_MAX {
-            return bad(format!(
-                "window index = {}: must be at most {WINDOWS_MAX:e}",
-                w.index
-            ));
-        }
-        if (s.t_abs - s.epoch - radau.t).abs() > 1e-9 * s.t_abs.abs().max(1.0) {
-            return bad(format!(
-                "time {} is not the start time {} plus the integrator's time {}",
-                s.t_abs, s.epoch, radau.t
-            ));
-        }
-        let t = radau.t;
-        if free_time {
-            // As `set_time` checks the time an importer sets.
-            let windows = (t - w.origin).abs() / w.len;
-            if windows.is_nan() || windows > WINDOWS_MAX {
-                return bad(format!(
-                    "time {} is {windows:e} averaging windows from the window origin {}: at most {WINDOWS_MAX:e}",
-                    s.t_abs,
-                    s.epoch + w.origin
-                ));
-            }
-        } else {
-            // Stepping ends inside the window in progress, or on its start within the
-            // rounding `step_to` takes as on a boundary: the same arithmetic here.
-            let (w_start, w_end) = (
-                w.origin + w.index as f64 * w.len,
-                w.origin + (w.index + 1) as f64 * w.len,
-            );
-            let on_start = t >= w_start || (w_start - t).abs() <= boundary_snap(t, s.t_abs, w.len);
-            if !(on_start && t <= w_end) {
-                return bad(format!(
-                    "time {} outside the averaging window [{w_start}, {w_end}]",
-                    t
-                ));
-            }
-        }
         if paths::step_proposal(s.exp_h).to_bits() != s.exp_h.to_bits() {
             return bad(format!(
                 "step proposal of the explicit paths = {}: must be a length >= 0, or +inf where nothing bounds the step",
@@ -186,10 +144,12 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
             acc: w.acc,
             last: w.last,
         };
-        c.radau = radau;
+        // The integrator's numbers: the shared state and the Radau path's history.
+        let (state, history) = paths::split_integrator(radau);
+        c.state = state;
         // The same breakaway ratio: the same shape, without fitting it again.
         let same_shape = c.params.r_ba == self.params.r_ba;
-        let kept = Saved::new(s.exp_h, s.direction);
+        let kept = Saved::new(s.exp_h, s.direction, history);
         c.paths.load(&self.paths, kept, same_shape);
         c.step = StepMean {
             acc: [0.0; MAX_QUAD],
@@ -205,4 +165,57 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Contact<V, L, D
         c.update_scale();
         Ok(c)
     }
+}
+
+/// Checks a saved state's averaging window (`len`: the length the parameters give) and its
+/// time `t` in the contact's own time.
+fn check_window(s: &ContactState, len: f64, t: f64, free_time: bool) -> Result<(), SimError> {
+    let bad = |what: String| Err(SimError::BadSnapshot(what));
+    // The averaging window: the length the parameters give, an index within range, the
+    // current time inside the window.
+    let w = &s.window;
+    if w.len != len {
+        return bad(format!(
+            "window length = {}: the parameters give {}",
+            w.len, len
+        ));
+    }
+    if w.index as f64 > WINDOWS_MAX {
+        return bad(format!(
+            "window index = {}: must be at most {WINDOWS_MAX:e}",
+            w.index
+        ));
+    }
+    if (s.t_abs - s.epoch - t).abs() > 1e-9 * s.t_abs.abs().max(1.0) {
+        return bad(format!(
+            "time {} is not the start time {} plus the integrator's time {}",
+            s.t_abs, s.epoch, t
+        ));
+    }
+    if free_time {
+        // As `set_time` checks the time an importer sets.
+        let windows = (t - w.origin).abs() / w.len;
+        if windows.is_nan() || windows > WINDOWS_MAX {
+            return bad(format!(
+                "time {} is {windows:e} averaging windows from the window origin {}: at most {WINDOWS_MAX:e}",
+                s.t_abs,
+                s.epoch + w.origin
+            ));
+        }
+    } else {
+        // Stepping ends inside the window in progress, or on its start within the
+        // rounding `step_to` takes as on a boundary: the same arithmetic here.
+        let (w_start, w_end) = (
+            w.origin + w.index as f64 * w.len,
+            w.origin + (w.index + 1) as f64 * w.len,
+        );
+        let on_start = t >= w_start || (w_start - t).abs() <= boundary_snap(t, s.t_abs, w.len);
+        if !(on_start && t <= w_end) {
+            return bad(format!(
+                "time {} outside the averaging window [{w_start}, {w_end}]",
+                t
+            ));
+        }
+    }
+    Ok(())
 }

@@ -1,5 +1,5 @@
 //! FMI 3.0 Co-Simulation over the same instance as FMI 2.0: the C types, the functions and the
-//! states each is allowed in, and the exported `extern "C"` functions (`ffi.rs`).
+//! states each is allowed in, and the exported `extern "C"` functions (`ffi/`).
 
 #[allow(unsafe_code)]
 pub mod ffi;

@@ -1,6 +1,6 @@
 //! One FMU instance, in safe Rust and in no particular FMI version.
 //!
-//! A version's C layer (`fmi2/ffi.rs`, `fmi3/ffi.rs`) turns C pointers into slices and strings
+//! A version's C layer (`fmi2/ffi.rs`, `fmi3/ffi/`) turns C pointers into slices and strings
 //! and runs each call through [`Instance::answer`] with a [`Call`]: the function's name, the
 //! states its version's table allows it in and the interface it belongs to. `answer` checks
 //! that once, at the entry; the function then validates all of its arguments and only then

@@ -36,6 +36,7 @@ struct Evaluated {
     indicators: [f64; IndicatorId::ALL.len()],
 }
 
+/// Gets: what a value reference names and the values it reads.
 impl Instance {
     /// What `vr` names in a get or set of this call's version.
     fn named(&self, call: Call, vr: u32) -> Answer<Named> {
@@ -188,7 +189,10 @@ impl Instance {
         }
         Ok(evaluate_on(self.simulator_now()?, config, named))
     }
+}
 
+/// Sets: values and input derivatives; the output derivatives a get reads.
+impl Instance {
     /// Real values by value reference (`fmi2SetReal`, `fmi3SetFloat64`): every value is checked
     /// before any is written.
     pub fn set_values(&mut self, call: Call, vrs: &[u32], values: &[f64]) -> Answer {

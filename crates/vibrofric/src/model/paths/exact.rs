@@ -10,13 +10,13 @@
 //! `kappa = 1`, a power law otherwise: [`Relaxation::remaining`]), so that
 //! `s = sigma·s_ss·(1 − w)` and `∫ s dt = sigma·s_ss·((b − a) − ∫ w dt)`.
 
-use super::{Kept, Path, Shared};
+use super::{Integrated, Kept, Path, Shared};
 use crate::model::drive::DriveKind;
 use crate::model::dynamics::Dynamics;
 use crate::model::simulator::SimError;
 use crate::physics::{trig, FrictionLaw, Relaxation, Vector};
 use crate::solver::quadrature::{adaptive, Integral};
-use crate::solver::{Quad, Radau5};
+use crate::solver::Quad;
 use crate::table::InputId;
 
 /// The relative velocity along x over one call, from its start `t0`:
@@ -274,7 +274,7 @@ fn segment(forcing: &Forcing, relax: Relaxation, a: f64, b: f64, tol: f64, out: 
 /// drive (no body state) with a law that relaxes in the relative displacement (Dahl).
 pub(super) fn relaxation<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     c: &Shared<'_, V, L, D, N>,
-    k: &Kept,
+    k: &Kept<N>,
 ) -> Option<Relaxation> {
     if V::DIM == 1 && D::N_BODY == 0 && !k.force_radau && c.dynamics.load.is_none() {
         c.dynamics.law.relaxation()
@@ -287,14 +287,14 @@ pub(super) fn relaxation<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: us
 pub(super) struct ClosedForm;
 
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N> for ClosedForm {
-    fn applies(c: &Shared<'_, V, L, D, N>, _: &Radau5<N>, k: &Kept) -> bool {
+    fn applies(c: &Shared<'_, V, L, D, N>, _: &Integrated<N>, k: &Kept<N>) -> bool {
         relaxation(c, k).is_some()
     }
 
     fn advance(
         c: &Shared<'_, V, L, D, N>,
-        r: &mut Radau5<N>,
-        k: &mut Kept,
+        r: &mut Integrated<N>,
+        k: &mut Kept<N>,
         t_target: f64,
         _: f64,
     ) -> Result<Quad, SimError> {
@@ -307,7 +307,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
 /// `∫F_F dt` over the call (longitudinal: `F_Fy` = 0).
 pub(super) fn advance_exact<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     c: &Shared<'_, V, L, D, N>,
-    r: &mut Radau5<N>,
+    r: &mut Integrated<N>,
     relax: Relaxation,
     t_target: f64,
 ) -> (f64, Quad) {

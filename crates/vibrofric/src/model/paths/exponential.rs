@@ -4,13 +4,13 @@
 //! [`Relaxation1`], in `dynamics.rs`), its steps ending on every sign change of `v_rx`.
 
 use super::exact::{forcing_x, sign_changes};
-use super::{exact, Kept, Path, Shared};
+use super::{exact, Integrated, Kept, Path, Shared};
 use crate::model::drive::DriveKind;
 use crate::model::dynamics::Relaxation1;
 use crate::model::simulator::SimError;
 use crate::physics::{FrictionLaw, Vector};
 use crate::solver::expint::ExpIntegrator;
-use crate::solver::{Quad, Radau5, MAX_QUAD};
+use crate::solver::{Quad, MAX_QUAD};
 
 /// The exponential path.
 pub(super) struct Exponential;
@@ -18,7 +18,7 @@ pub(super) struct Exponential;
 impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N> for Exponential {
     /// A velocity drive with the lateral motion guided (no body state) and a law linear in
     /// `s`, where the closed form does not apply.
-    fn applies(c: &Shared<'_, V, L, D, N>, _: &Radau5<N>, k: &Kept) -> bool {
+    fn applies(c: &Shared<'_, V, L, D, N>, _: &Integrated<N>, k: &Kept<N>) -> bool {
         D::N_BODY == 0
             && !k.force_radau
             && c.dynamics.load.is_none()
@@ -28,8 +28,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
 
     fn advance(
         c: &Shared<'_, V, L, D, N>,
-        r: &mut Radau5<N>,
-        k: &mut Kept,
+        r: &mut Integrated<N>,
+        k: &mut Kept<N>,
         t_target: f64,
         h_max: f64,
     ) -> Result<Quad, SimError> {
@@ -42,8 +42,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
 /// `∫F_F dt`.
 pub(super) fn advance_exp<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     c: &Shared<'_, V, L, D, N>,
-    r: &mut Radau5<N>,
-    k: &mut Kept,
+    r: &mut Integrated<N>,
+    k: &mut Kept<N>,
     t_target: f64,
     h_max: f64,
 ) -> Result<(f64, Quad), SimError> {

@@ -2,7 +2,7 @@
 //!
 //! ```text
 //!                        contact.rs (step_to: windows, load events, the work limit)
-//!                                  │ lends Shared + the state (Radau5: t, y, counts)
+//!                                  │ lends Shared + the state (Integrated: t, y, counts) + Kept
 //!                                  ▼
 //!                        paths/mod.rs: choose() ── the table of docs/model.md
 //!        ┌──────────────┬──────────────┼───────────────┬──────────────────┐
@@ -16,8 +16,9 @@
 //! contact to a time (no further than the averaging window's end), returning `∫F_F dt` over
 //! the call. The paths see the contact through [`Shared`], what every path reads (the
 //! configuration, the parameters, the dynamics, the scales, the window's length), and the
-//! integrated state, a [`Radau5`] (time, state vector, work counters, tolerance, work limit);
-//! what only they need between calls is in [`Kept`]. They know nothing of the contact's windows,
+//! integrated state every path advances, an [`Integrated`] (time, state vector, work counters,
+//! tolerance, work limit); what only one of them needs between calls is its part of [`Kept`]
+//! (the Radau path's history included). They know nothing of the contact's windows,
 //! step means, epoch or Model Exchange sides.
 //!
 //! Adding a path: a file here with a unit type implementing [`Path`] (its own kept fields, if
@@ -30,6 +31,7 @@ mod exact;
 mod explicit;
 mod explicit_planar;
 mod exponential;
+mod integrated;
 mod radau;
 mod stage_support;
 
@@ -41,8 +43,11 @@ use super::drive::DriveKind;
 use super::dynamics::{Dynamics, Eval, System};
 use super::simulator::{Integrator, SimError};
 use crate::physics::{ElastoPlastic, FrictionLaw, Vector};
-use crate::solver::{Quad, Radau5, Workspace, MAX_SWITCH};
+use crate::solver::{Quad, Radau5, MAX_SWITCH};
 use crate::table::{Config, InputId, Params};
+
+pub(in crate::model) use integrated::Integrated;
+pub(in crate::model) use radau::split as split_integrator;
 
 /// What every path reads of the contact, lent for one call.
 pub(in crate::model) struct Shared<'c, V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
@@ -82,7 +87,7 @@ impl<'c, V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Shared<'c, 
     }
 
     /// Everything at the state's time and vector.
-    pub(in crate::model) fn eval_now(&self, r: &Radau5<N>) -> Eval<V> {
+    pub(in crate::model) fn eval_now(&self, r: &Integrated<N>) -> Eval<V> {
         self.system().eval(r.t, r.y.as_slice())
     }
 
@@ -120,7 +125,7 @@ impl<'c, V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Shared<'c, 
 
     /// Ends a call of a path at `t_target` with the state vector `y` (projected onto the
     /// equations' constraints): the state there, the integrator restarted.
-    fn finish(&self, r: &mut Radau5<N>, t_target: f64, mut y: SVector<f64, N>) {
+    fn finish(&self, r: &mut Integrated<N>, t_target: f64, mut y: SVector<f64, N>) {
         crate::solver::OdeSystem::<N>::project(&self.system(), t_target, &mut y);
         r.y = y;
         r.t = t_target;
@@ -145,7 +150,7 @@ pub(in crate::model) fn step_proposal(h: f64) -> f64 {
 
 /// What the paths keep between calls, each its own part.
 #[derive(Clone, Debug)]
-pub(in crate::model) struct Kept {
+pub(in crate::model) struct Kept<const N: usize> {
     /// Radau even where a faster path applies (tests and benchmarks of the fast paths).
     pub(in crate::model) force_radau: bool,
     /// The exponential or explicit paths' proposed step (0: none yet); one for all three, so
@@ -153,20 +158,21 @@ pub(in crate::model) struct Kept {
     pub(in crate::model) h: f64,
     /// The explicit path's.
     pub(in crate::model) explicit: explicit::ExplicitKept,
-    /// Radau's scratch matrices.
-    pub(in crate::model) work: Workspace,
+    /// The Radau path's: its history and scratch matrices.
+    pub(in crate::model) radau: radau::RadauKept<N>,
 }
 
 /// What a communication step that fails restores of [`Kept`] (the rest is scratch or cache).
 #[derive(Clone, Copy, Debug)]
-pub(in crate::model) struct Saved {
+pub(in crate::model) struct Saved<const N: usize> {
     h: f64,
     direction: f64,
+    radau: Radau5<N>,
 }
 
-impl Kept {
-    /// Nothing kept yet, for a state of dimension `n`.
-    pub(in crate::model) fn new(n: usize) -> Self {
+impl<const N: usize> Kept<N> {
+    /// Nothing kept yet, at tolerance `tol`.
+    pub(in crate::model) fn new(tol: f64) -> Self {
         Kept {
             force_radau: false,
             h: 0.0,
@@ -174,7 +180,7 @@ impl Kept {
                 direction: 0.0,
                 elastoplastic: OnceLock::new(),
             },
-            work: Workspace::new(n),
+            radau: radau::RadauKept::new(tol),
         }
     }
 
@@ -184,16 +190,18 @@ impl Kept {
         self.h = step_proposal(h);
     }
 
-    pub(in crate::model) fn save(&self) -> Saved {
+    pub(in crate::model) fn save(&self) -> Saved<N> {
         Saved {
             h: self.h,
             direction: self.explicit.direction,
+            radau: self.radau.history(),
         }
     }
 
-    pub(in crate::model) fn restore(&mut self, s: Saved) {
+    pub(in crate::model) fn restore(&mut self, s: Saved<N>) {
         self.h = s.h;
         self.explicit.direction = s.direction;
+        self.radau.set_history(s.radau);
     }
 
     /// The explicit path's branch (saved states).
@@ -201,9 +209,9 @@ impl Kept {
         self.explicit.direction
     }
 
-    /// Kept as in a saved state (`h`, `direction`) on `from`'s choice; `from`'s fitted shape
-    /// too where it is the same law (`same_shape`).
-    pub(in crate::model) fn load(&mut self, from: &Kept, s: Saved, same_shape: bool) {
+    /// Kept as in a saved state (`h`, `direction`, Radau's history) on `from`'s choice;
+    /// `from`'s fitted shape too where it is the same law (`same_shape`).
+    pub(in crate::model) fn load(&mut self, from: &Kept<N>, s: Saved<N>, same_shape: bool) {
         self.force_radau = from.force_radau;
         self.restore(s);
         if same_shape {
@@ -212,22 +220,26 @@ impl Kept {
     }
 }
 
-impl Saved {
-    pub(in crate::model) fn new(h: f64, direction: f64) -> Self {
-        Saved { h, direction }
+impl<const N: usize> Saved<N> {
+    pub(in crate::model) fn new(h: f64, direction: f64, radau: Radau5<N>) -> Self {
+        Saved {
+            h,
+            direction,
+            radau,
+        }
     }
 }
 
 /// One way of advancing a contact.
 trait Path<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
     /// Whether it applies to the contact now.
-    fn applies(c: &Shared<'_, V, L, D, N>, r: &Radau5<N>, k: &Kept) -> bool;
+    fn applies(c: &Shared<'_, V, L, D, N>, r: &Integrated<N>, k: &Kept<N>) -> bool;
     /// Advances the contact's state `r` to `t_target` (no further than the averaging window's
     /// end): `∫F_F dt` over the call.
     fn advance(
         c: &Shared<'_, V, L, D, N>,
-        r: &mut Radau5<N>,
-        k: &mut Kept,
+        r: &mut Integrated<N>,
+        k: &mut Kept<N>,
         t_target: f64,
         h_max: f64,
     ) -> Result<Quad, SimError>;
@@ -237,8 +249,8 @@ trait Path<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> {
 /// first that applies.
 pub(in crate::model) fn choose<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     c: &Shared<'_, V, L, D, N>,
-    r: &Radau5<N>,
-    k: &Kept,
+    r: &Integrated<N>,
+    k: &Kept<N>,
 ) -> Integrator {
     use Integrator::*;
     if k.force_radau {
@@ -260,8 +272,8 @@ pub(in crate::model) fn choose<V: Vector, L: FrictionLaw, D: DriveKind<V>, const
 pub(in crate::model) fn advance<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     path: Integrator,
     c: &Shared<'_, V, L, D, N>,
-    r: &mut Radau5<N>,
-    k: &mut Kept,
+    r: &mut Integrated<N>,
+    k: &mut Kept<N>,
     t_target: f64,
     h_max: f64,
 ) -> Result<Quad, SimError> {
@@ -286,8 +298,8 @@ pub(in crate::model) fn advance_affine<
     const N: usize,
 >(
     c: &Shared<'_, V, L, D, N>,
-    r: &mut Radau5<N>,
-    k: &mut Kept,
+    r: &mut Integrated<N>,
+    k: &mut Kept<N>,
     t_target: f64,
     h_max: f64,
 ) -> Result<(f64, Quad), SimError> {
@@ -307,8 +319,8 @@ pub(in crate::model) fn windows_affine<
     const N: usize,
 >(
     c: &Shared<'_, V, L, D, N>,
-    r: &Radau5<N>,
-    k: &Kept,
+    r: &Integrated<N>,
+    k: &Kept<N>,
 ) -> bool {
     exact::relaxation(c, k).is_some_and(|r| r.exponent == 1.0)
         || exponential::Exponential::applies(c, r, k)

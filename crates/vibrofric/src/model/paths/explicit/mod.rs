@@ -25,12 +25,12 @@
 use super::attempts;
 use super::elastic::{elastic_step, ElasticEnd, Forcing};
 use super::stage_support::StageSupport;
-use super::{Kept, Path, Shape, Shared};
+use super::{Integrated, Kept, Path, Shape, Shared};
 use crate::model::drive::DriveKind;
 use crate::model::simulator::SimError;
 use crate::physics::{trig, BranchStart, ElastoPlastic, FrictionLaw, Relaxation, Vector};
 use crate::solver::dopri::{factor, first_step, DoPriStep, C};
-use crate::solver::{Quad, Radau5, SolverStats};
+use crate::solver::{Quad, SolverStats};
 use crate::table::{Drive, InputId};
 use std::sync::Arc;
 
@@ -116,7 +116,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
     /// `kappa = 1` or Dupont at a constant load, and (planar scenes) the motion on x
     /// ([`Shared::on_x_axis`]); a stiff Dahl contact only where the vibration keeps the body
     /// sliding ([`HELD_LIMIT`]).
-    fn applies(c: &Shared<'_, V, L, D, N>, r: &Radau5<N>, k: &Kept) -> bool {
+    fn applies(c: &Shared<'_, V, L, D, N>, r: &Integrated<N>, k: &Kept<N>) -> bool {
         if k.force_radau
             || c.dynamics.load.is_some()
             || !matches!(c.config.drive, Drive::Force | Drive::Spring)
@@ -139,8 +139,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
     /// Advances the explicit path to `t_target`: `∫F_F dt` over the call.
     fn advance(
         c: &Shared<'_, V, L, D, N>,
-        r: &mut Radau5<N>,
-        k: &mut Kept,
+        r: &mut Integrated<N>,
+        k: &mut Kept<N>,
         t_target: f64,
         h_max: f64,
     ) -> Result<Quad, SimError> {
@@ -153,7 +153,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
 /// breakaway ratio (elastic, then plastic), fitted on first use.
 fn branch_shape<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     c: &Shared<'_, V, L, D, N>,
-    k: &Kept,
+    k: &Kept<N>,
 ) -> Option<(Relaxation, Option<Arc<ElastoPlastic>>)> {
     let law = &c.dynamics.law;
     if let Some(relax) = law.relaxation().filter(|r| r.exponent == 1.0) {
@@ -198,8 +198,8 @@ fn elastic_call<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
 /// Advances the explicit path to `t_target`: `∫F_F dt` over the call.
 fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     c: &Shared<'_, V, L, D, N>,
-    r: &mut Radau5<N>,
-    k: &mut Kept,
+    r: &mut Integrated<N>,
+    k: &mut Kept<N>,
     t_target: f64,
     h_max: f64,
 ) -> Result<Quad, SimError> {

@@ -72,13 +72,13 @@ mod coulomb_limit;
 
 use super::explicit::{reach_ahead, weighed, DUPONT_TOL_FRACTION, PUSH_MARGIN, WEIGH_UP_TO};
 use super::stage_support::StageSupport;
-use super::{Kept, Path, Shared};
+use super::{Integrated, Kept, Path, Shared};
 use crate::model::drive::{Axial, DriveInputs, DriveKind};
 use crate::model::dynamics::{Eval, System};
 use crate::model::simulator::SimError;
 use crate::physics::{trig, FrictionLaw, Vector, VelocityTerms};
 use crate::solver::dopri::{factor, first_step, Dense, DoPriStep, C};
-use crate::solver::{Quad, Radau5, SolverStats};
+use crate::solver::{Quad, SolverStats};
 use coulomb_limit::Limit;
 use steps::steps;
 
@@ -219,7 +219,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
     /// whose stuck oscillation is not fast on the scale of the averaging window
     /// ([`STIFF_LIMIT`]; with LuGre's contact damping, [`DAMPED_LIMIT`]; Dupont's plastic
     /// relaxation too, [`DUPONT_LIMIT`], up to the breakaway ratio [`DUPONT_BREAKAWAY_MAX`]).
-    fn applies(c: &Shared<'_, V, L, D, N>, r: &Radau5<N>, k: &Kept) -> bool {
+    fn applies(c: &Shared<'_, V, L, D, N>, r: &Integrated<N>, k: &Kept<N>) -> bool {
         if D::N_BODY == 0 || k.force_radau || c.dynamics.load.is_some() {
             return false;
         }
@@ -294,8 +294,8 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize> Path<V, L, D, N
     /// VibratingContactLuGre in longitudinal motion, `tests/fast_path.rs`).
     fn advance(
         c: &Shared<'_, V, L, D, N>,
-        r: &mut Radau5<N>,
-        k: &mut Kept,
+        r: &mut Integrated<N>,
+        k: &mut Kept<N>,
         t_target: f64,
         h_max: f64,
     ) -> Result<Quad, SimError> {
