@@ -477,7 +477,10 @@ fn a_section_lifted_off_the_wall_carries_no_friction() {
         last.push((o.f_fx_step[lifted], o.v_x[lifted]));
     }
     let f_c_half = MU * 0.5 * F_N;
-    let sliding = last[200..].iter().filter(|(_, v)| v.abs() >= 5.0 * V_S).count();
+    let sliding = last[200..]
+        .iter()
+        .filter(|(_, v)| v.abs() >= 5.0 * V_S)
+        .count();
     assert!(sliding > 50, "the section should slide with the fed string");
     for &(f, v) in &last[200..] {
         if v.abs() >= 5.0 * V_S {
