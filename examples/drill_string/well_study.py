@@ -11,7 +11,7 @@ F_TOOL*sin(2*pi*f*t) on one section, shakes the string: its sections slip back a
 their mean motion and the wall's mean friction against the mean motion falls, so more of the
 push reaches the bit.
 
-For every run the script reports, over the last T_MEAN seconds, the mean WOB (F_bottom_step),
+For every run the script reports, over the last --mean seconds, the mean WOB (F_bottom_step),
 the mean drag (the sum of every section's F_Fx_step: the wall's friction on the string), the
 mean ROP, and the drag reduction against the tool off: 1 - drag_on / drag_off. It writes a
 figure (WOB and drag against time for the tool off and the strongest reduction; the reduction
@@ -20,7 +20,7 @@ against frequency per placement) and prints a table.
     cargo run --release                                         # exports dist/DrillString.fmu
     .venv/bin/python -m pip install -r examples/figures/requirements.txt
     .venv/bin/python examples/drill_string/well_study.py [--scheduler ADDRESS] [--workers N]
-        [--stop 4] [--freqs 10,15,20] [--places 0.25,0.5,0.75] [--out docs/figures]
+        [--stop 10] [--mean 4] [--freqs 10,15,20] [--places 0.25,0.5,0.75] [--out docs/figures]
 
 Runs go to local worker processes (one per core) by default, or to a dask.distributed cluster
 with --scheduler (its workers must see dist/, or $VIBROFRIC_DIST, at the same path).
@@ -42,13 +42,13 @@ F_PUSH = 100e3     # N, the push at the surface (the string's sliding drag is 10
 R_ROCK = 5e6       # N.s/m, WOB per rate of penetration (50 kN: 36 m/h)
 F_TOOL = 20e3      # N, the tool's force amplitude
 STEP = 1e-3        # s, the communication step
-T_MEAN = 2.0       # s, the window of the means at the end of each run
+T_MEAN = 4.0       # s, the window of the means at the end of each run (--mean)
 
 
-def run(freq, place, stop, fmu_path):
+def run(freq, place, stop, fmu_path, t_mean=T_MEAN):
     """One run: the tool at `freq` Hz (0: off) on the section at the fraction `place` of the
     string's length. Returns the time series (t, WOB, drag, ROP) of the step means and their
-    means over the last T_MEAN seconds."""
+    means over the last `t_mean` seconds."""
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave
 
@@ -87,7 +87,7 @@ def run(freq, place, stop, fmu_path):
     finally:
         fmu.freeInstance()
         shutil.rmtree(unzip, ignore_errors=True)
-    last = [s for s in series if s[0] > stop - T_MEAN + 1e-12]
+    last = [s for s in series if s[0] > stop - t_mean + 1e-12]
     mean = [sum(s[j] for s in last) / len(last) for j in (1, 2, 3)]
     return {"freq": freq, "place": place, "series": series,
             "wob": mean[0], "drag": mean[1], "rop": mean[2]}
@@ -99,7 +99,9 @@ def main():
                    help="address of a dask.distributed scheduler (default: local processes)")
     p.add_argument("--workers", type=int, default=os.cpu_count(),
                    help="local worker processes (default: one per core)")
-    p.add_argument("--stop", type=float, default=4.0, help="simulated seconds per run")
+    p.add_argument("--stop", type=float, default=10.0, help="simulated seconds per run")
+    p.add_argument("--mean", type=float, default=T_MEAN,
+                   help="the window of the means at the end of each run, s")
     p.add_argument("--freqs", default="10,15,20", help="tool frequencies, Hz")
     p.add_argument("--places", default="0.25,0.5,0.75",
                    help="tool placements, as fractions of the length from the top")
@@ -114,7 +116,7 @@ def main():
     freqs = [float(f) for f in args.freqs.split(",")]
     places = [float(x) for x in args.places.split(",")]
     cases = [(0.0, 0.0)] + [(f, x) for x in places for f in freqs]
-    tasks = [delayed(run)(f, x, args.stop, fmu_path) for f, x in cases]
+    tasks = [delayed(run)(f, x, args.stop, fmu_path, args.mean) for f, x in cases]
     t0 = time.perf_counter()
     print(f"{len(tasks)} runs of {args.stop} s, {N} sections, steps of {STEP} s", flush=True)
     if args.scheduler:
@@ -132,7 +134,7 @@ def main():
     print(f"wall {time.perf_counter() - t0:.1f} s", flush=True)
 
     off = results[0]
-    print(f"\nmeans over the last {T_MEAN} s (push {F_PUSH / 1e3:.0f} kN, "
+    print(f"\nmeans over the last {args.mean:g} s of {args.stop:g} s (push {F_PUSH / 1e3:.0f} kN, "
           f"tool {F_TOOL / 1e3:.0f} kN)")
     print("| tool | WOB (kN) | drag (kN) | ROP (m/h) | drag reduction |")
     print("|---|---|---|---|---|")
@@ -162,7 +164,7 @@ def main():
         a2.plot([r["freq"] for r in rs], [100 * r["reduction"] for r in rs], "o-",
                 label=f"tool at {x:g} L")
     a2.set_xlabel("tool frequency (Hz)")
-    a2.set_ylabel(f"drag reduction over the last {T_MEAN:g} s (%)")
+    a2.set_ylabel(f"drag reduction over the last {args.mean:g} s (%)")
     a2.legend(fontsize=8)
     fig.suptitle(f"DrillString: {N} sections, push {F_PUSH / 1e3:.0f} kN, "
                  f"tool {F_TOOL / 1e3:.0f} kN")
