@@ -10,8 +10,9 @@
 //! the FMI 3.0 ones those of `dist/fmi3` (`tests/cross/test.sh` runs it so under qemu).
 //!
 //! Each FMU runs its default experiment from its scene's start values (0.1 s, communication step
-//! 1 ms) with every output read at every point, twice: the second time with 0.37 ms steps and, where the FMU has them, the inputs `F_d`
-//! and `v_sx` set to other values than their start values.
+//! 1 ms) with every output read at every point (of a string, its FMI 2.0 edition only), twice:
+//! the second time with 0.37 ms steps and, where the FMU has them, the inputs `F_d` and `v_sx`
+//! set to other values than their start values.
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -56,7 +57,11 @@ fn run(dir: &Path, dir3: &Path) -> Result<usize, String> {
             print_rows(&format!("{id} fmi2 h={step}"), &rows);
         }
         let path3 = dir3.join(path.file_name().unwrap_or_default());
-        if path3.is_file() {
+        // A string's FMI 3.0 edition reads its arrays whole (a value reference per array), which
+        // this importer's scalar getter does not: its FMI 2.0 edition runs here on every
+        // platform, and tests/python/test_string.py checks both editions equal bit for bit.
+        let string = d.variables.iter().any(|v| v.name.contains('['));
+        if path3.is_file() && !string {
             let fmu3 = Fmu3::load(&path3).map_err(|e| format!("{}: {e}", path3.display()))?;
             let rows = fmu3
                 .simulate(0.1, 1e-3, &[], &outputs)
