@@ -432,8 +432,9 @@ fn accept_step<L: FrictionLaw>(
 ) -> Result<(), SolverError> {
     let n = model.n();
     let (t, h) = (step.t, step.h);
-    // The sections integrated again: their friction and position integrals, their new state.
-    let mut own: Vec<(usize, f64, f64)> = Vec::with_capacity(step.refine.len());
+    // The sections integrated again, each against the string's step; then their new states
+    // and the links' impulses made to agree (`refine::reflux`).
+    let mut refined: Vec<(usize, refine::Refined)> = Vec::with_capacity(step.refine.len());
     if !step.refine.is_empty() {
         model.error_scale(step.y0, scratch);
     }
@@ -456,10 +457,15 @@ fn accept_step<L: FrictionLaw>(
         stats.rhs_evals += r.stats.rhs_evals;
         stats.jacobians += r.stats.jacobians;
         stats.events += r.stats.events;
-        own.push((i, r.friction, r.position));
-        let k = PER_SECTION * i;
-        step.stages[2][k..k + PER_SECTION].copy_from_slice(&r.y);
+        refined.push((i, r));
     }
+    if !refined.is_empty() {
+        refine::reflux(model, h, step.y0, step.stages, &refined);
+    }
+    let own: Vec<(usize, f64, f64)> = refined
+        .iter()
+        .map(|(i, r)| (*i, r.friction, r.position))
+        .collect();
     let stages = &*step.stages;
     let mut next = own.iter().peekable();
     for (i, integral) in integrals[..n].iter_mut().enumerate() {

@@ -12,7 +12,7 @@
 use nalgebra::{SMatrix, SVector};
 
 use crate::physics::FrictionLaw;
-use crate::solver::{OdeSystem, Quad, Radau5, SolverError, Workspace, C, MAX_SWITCH};
+use crate::solver::{OdeSystem, Quad, Radau5, SolverError, Workspace, B, C, MAX_SWITCH};
 
 use super::equations::{StringModel, PER_SECTION};
 
@@ -311,4 +311,65 @@ pub fn refine<L: FrictionLaw>(
         position: y0[k] * (t1 - t0) + q[1],
         stats: r.stats,
     })
+}
+
+/// Makes the links' impulses over a step agree on both sides where sections were integrated
+/// again (as at the faces between coarse and fine cells of adaptive mesh refinement): a section
+/// integrated again felt its links with its own new motion and its neighbours on the string's
+/// step, its neighbours felt them with its motion on the string's step. Each link touching such a
+/// section gets one impulse (the sections' own, their mean where both ends were integrated
+/// again), and every section the difference it did not get, as a change of its velocity (and
+/// of its position by half the step times it). Then the string's momentum changes over the step
+/// by exactly the external impulses, as its equations say. Writes the new states of the
+/// sections integrated again (`refined`, ascending) into the last stage.
+pub fn reflux<L: FrictionLaw>(
+    model: &StringModel<L>,
+    h: f64,
+    y0: &[f64],
+    stages: &mut [Vec<f64>; 3],
+    refined: &[(usize, Refined)],
+) {
+    let n = model.n();
+    let own = |i: usize| refined.iter().find(|r| r.0 == i).map(|r| &r.1);
+    // A section's position integral and displacement over the step: on the string's step, or
+    // its own.
+    let coarse = |i: usize| {
+        let k = PER_SECTION * i;
+        let integral: f64 = (0..3).map(|q| B[q] * h * stages[q][k]).sum();
+        (integral, stages[2][k] - y0[k])
+    };
+    let fine = |i: usize, r: &Refined| (r.position, r.y[0] - y0[PER_SECTION * i]);
+    let mut dp = vec![0.0; n];
+    for a in 0..n.saturating_sub(1) {
+        let b = a + 1;
+        let (ra, rb) = (own(a), own(b));
+        if ra.is_none() && rb.is_none() {
+            continue;
+        }
+        let (k, c) = (model.links.k_s[a], model.links.c_s[a]);
+        let impulse = |(xa, da): (f64, f64), (xb, db): (f64, f64)| k * (xb - xa) + c * (db - da);
+        let on_step = impulse(coarse(a), coarse(b));
+        // What each end felt: section a gets +J, section b −J.
+        let felt_a = ra.map_or(on_step, |r| impulse(fine(a, r), coarse(b)));
+        let felt_b = rb.map_or(on_step, |r| impulse(coarse(a), fine(b, r)));
+        let agreed = match (ra, rb) {
+            (Some(_), Some(_)) => 0.5 * (felt_a + felt_b),
+            (Some(_), None) => felt_a,
+            _ => felt_b,
+        };
+        dp[a] += agreed - felt_a;
+        dp[b] -= agreed - felt_b;
+    }
+    for (i, r) in refined {
+        let k = PER_SECTION * i;
+        stages[2][k..k + PER_SECTION].copy_from_slice(&r.y);
+    }
+    for (i, &p) in dp.iter().enumerate() {
+        if p != 0.0 {
+            let dv = p * model.sections[i].inv_m;
+            let k = PER_SECTION * i;
+            stages[2][k + 1] += dv;
+            stages[2][k] += 0.5 * h * dv;
+        }
+    }
 }
