@@ -84,7 +84,12 @@ def test_a_frictionless_free_string_moves_its_centre_of_mass_as_one_body(edition
         x = s.get("x")
         assert np.all(s.get("F_Fx") == 0.0)
         expected = 5e4 * t**2 / (2 * mass)
-        assert np.mean(x) == pytest.approx(expected, rel=1e-6)
+        # To the string's tolerance, not exactly: a position is held to what moves the forces of
+        # the springs that hold it by the tolerance (here the push on stiff links, F/k_s, so
+        # tol·F/k_s = 7e-12 m per step), and a section integrated again alone passes its links'
+        # impulse to its neighbours exactly but their positions to first order (1.7e-12 m at
+        # the first step, 1.8e-6 of the displacement, measured).
+        assert np.mean(x) == pytest.approx(expected, rel=1e-5)
     # The push reached past the first sections: the links carry it.
     assert s.get("F_link", N - 1)[0] < -1e3
 
