@@ -165,14 +165,25 @@ impl<L: FrictionLaw> StringModel<L> {
     /// The end forces at `t`: `F_top` on section 1, `F_bottom` of section N on its holder.
     #[inline(always)]
     pub fn ends(&self, t: f64, y: &[f64]) -> Forces {
-        let l = &self.links;
         let last = PER_SECTION * (self.n() - 1);
-        let inp = &self.inputs;
         Forces {
-            top: l.k_top * (inp.x_top(t) - y[0]) + l.c_top * (inp.v_top.at(t) - y[1]),
-            bottom: l.k_bottom * (y[last] - inp.x_bottom(t))
-                + l.c_bottom * (y[last + 1] - inp.v_bottom.at(t)),
+            top: self.top_force(t, y[0], y[1]),
+            bottom: self.bottom_force(t, y[last], y[last + 1]),
         }
+    }
+
+    /// `F_top` at `t` with the first section at position `x`, velocity `v`.
+    #[inline(always)]
+    pub fn top_force(&self, t: f64, x: f64, v: f64) -> f64 {
+        let (l, inp) = (&self.links, &self.inputs);
+        l.k_top * (inp.x_top(t) - x) + l.c_top * (inp.v_top.at(t) - v)
+    }
+
+    /// `F_bottom` at `t` with the last section at position `x`, velocity `v`.
+    #[inline(always)]
+    pub fn bottom_force(&self, t: f64, x: f64, v: f64) -> f64 {
+        let (l, inp) = (&self.links, &self.inputs);
+        l.k_bottom * (x - inp.x_bottom(t)) + l.c_bottom * (v - inp.v_bottom.at(t))
     }
 }
 

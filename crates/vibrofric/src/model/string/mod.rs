@@ -462,19 +462,12 @@ fn accept_step<L: FrictionLaw>(
     if !refined.is_empty() {
         refine::reflux(model, h, step.y0, step.stages, &refined);
     }
-    let own: Vec<(usize, f64, f64)> = refined
-        .iter()
-        .map(|(i, r)| (*i, r.friction, r.position))
-        .collect();
     let stages = &*step.stages;
-    let mut next = own.iter().peekable();
+    let mut next = refined.iter().peekable();
     for (i, integral) in integrals[..n].iter_mut().enumerate() {
-        if let Some(&&(j, friction, _)) = next.peek() {
-            if j == i {
-                *integral += friction;
-                next.next();
-                continue;
-            }
+        if let Some((_, r)) = next.next_if(|(j, _)| *j == i) {
+            *integral += r.friction;
+            continue;
         }
         let (kv, ks) = (PER_SECTION * i + 1, PER_SECTION * i + 2);
         for (k, y) in stages.iter().enumerate() {
@@ -483,7 +476,7 @@ fn accept_step<L: FrictionLaw>(
     }
     // The end forces: by the collocation quadrature, or from the position integral of an end
     // section integrated again (the ends' points in closed form).
-    let own_position = |i: usize| own.iter().find(|o| o.0 == i).map(|o| o.2);
+    let own_position = |i: usize| refined.iter().find(|o| o.0 == i).map(|o| o.1.position);
     let (l, inp) = (&model.links, &model.inputs);
     let last = PER_SECTION * (n - 1);
     let (x_top_int, x_bottom_int) = inp.end_position_integrals(t, step.t1);

@@ -93,7 +93,9 @@ struct SectionOde<'a, L> {
     bound: Option<f64>,
 }
 
-struct Eval {
+struct Eval<L> {
+    /// The law at the section's load at that time.
+    law: L,
     ds: f64,
     f: f64,
     /// The force of the links and end elements on the section.
@@ -103,7 +105,7 @@ struct Eval {
 
 impl<L: FrictionLaw> SectionOde<'_, L> {
     #[inline(always)]
-    fn eval(&self, t: f64, y: &SVector<f64, 3>) -> Eval {
+    fn eval(&self, t: f64, y: &SVector<f64, 3>) -> Eval<L> {
         let m = self.model;
         let (x, v, s) = (self.x0 + y[0], y[1], y[2]);
         let law = m.law(self.i, t);
@@ -123,18 +125,23 @@ impl<L: FrictionLaw> SectionOde<'_, L> {
                 held += k * (xn - x) + c * (vn - v);
             }
         }
-        let (lk, inp) = (&m.links, &m.inputs);
         if hd.top {
-            held += lk.k_top * (inp.x_top(t) - x) + lk.c_top * (inp.v_top.at(t) - v);
+            held += m.top_force(t, x, v);
         }
         if hd.bottom {
-            held -= lk.k_bottom * (x - inp.x_bottom(t)) + lk.c_bottom * (v - inp.v_bottom.at(t));
+            held -= m.bottom_force(t, x, v);
         }
-        Eval { ds, f, held, vr }
+        Eval {
+            law,
+            ds,
+            f,
+            held,
+            vr,
+        }
     }
 
     #[inline(always)]
-    fn rhs_at(&self, t: f64, y: &SVector<f64, 3>, e: &Eval) -> SVector<f64, 3> {
+    fn rhs_at(&self, t: f64, y: &SVector<f64, 3>, e: &Eval<L>) -> SVector<f64, 3> {
         let force = self.model.inputs.f_d[self.i].at(t) + e.held - e.f;
         SVector::from([y[1], force * self.model.sections[self.i].inv_m, e.ds])
     }
@@ -176,7 +183,7 @@ impl<L: FrictionLaw> OdeSystem<3> for SectionOde<'_, L> {
         y: &SVector<f64, 3>,
     ) -> (SVector<f64, 3>, Option<SMatrix<f64, 3, 3>>) {
         let e = self.eval(t, y);
-        let lj = self.model.law(self.i, t).jacobian(y[2], e.vr, e.ds);
+        let lj = e.law.jacobian(y[2], e.vr, e.ds);
         let inv_m = self.model.sections[self.i].inv_m;
         let hd = &self.holders;
         #[rustfmt::skip]
