@@ -107,6 +107,8 @@ pub trait LuScalar:
 {
     /// A magnitude for choosing pivots (|re| + |im| for complex numbers).
     fn mag(self) -> f64;
+    /// The real number `v`.
+    fn from_real(v: f64) -> Self;
 }
 
 impl LuScalar for f64 {
@@ -114,12 +116,20 @@ impl LuScalar for f64 {
     fn mag(self) -> f64 {
         self.abs()
     }
+    #[inline(always)]
+    fn from_real(v: f64) -> Self {
+        v
+    }
 }
 
 impl LuScalar for nalgebra::Complex<f64> {
     #[inline(always)]
     fn mag(self) -> f64 {
         self.re.abs() + self.im.abs()
+    }
+    #[inline(always)]
+    fn from_real(v: f64) -> Self {
+        nalgebra::Complex::new(v, 0.0)
     }
 }
 

@@ -151,8 +151,8 @@ impl<L: FrictionLaw> StringModel<L> {
     pub fn contact(&self, i: usize, t: f64, v: f64, s: f64) -> (f64, f64) {
         let law = self.law(i, t);
         let vr = v - self.support(i, t);
-        let ds = law.rate(s, vr);
-        (ds, law.force(s, vr, ds))
+        // One exponential where the law's two velocities are equal (LuGre's default).
+        law.rate_force_at(s, vr, &law.velocity_terms(vr))
     }
 
     /// The force in link `i` (between sections `i` and `i + 1`, 0-based), tension positive.
@@ -313,5 +313,11 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
     /// A quarter of the sections, at least one.
     fn max_refined(&self) -> usize {
         (self.n() / 4).max(1)
+    }
+
+    /// Each section is `[x, v, s]`: its position moves at its velocity, its deformation's rate
+    /// is its own contact's, its velocity feels its neighbours through the links.
+    fn chain(&self) -> bool {
+        true
     }
 }

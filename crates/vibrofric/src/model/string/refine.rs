@@ -110,8 +110,7 @@ impl<L: FrictionLaw> SectionOde<'_, L> {
         let (x, v, s) = (self.x0 + y[0], y[1], y[2]);
         let law = m.law(self.i, t);
         let vr = v - m.support(self.i, t);
-        let ds = law.rate(s, vr);
-        let f = law.force(s, vr, ds);
+        let (ds, f) = law.rate_force_at(s, vr, &law.velocity_terms(vr));
         let hd = &self.holders;
         let mut held = 0.0;
         if hd.left.is_some() || hd.right.is_some() {
