@@ -4,7 +4,8 @@
 //! spring–dashpot on the rock, an oscillation tool of 20 kN at 15 Hz at 3/4 of the length, in
 //! communication steps of 1 ms at tolerance 1e-6, from rest.
 //!
-//! `cargo run --release --example string_bench [-- SECONDS [N,N,...] [TOL]]` prints,
+//! `cargo run --release --example string_bench [-- SECONDS [N,N,...] [TOL] [normal-input]]`
+//! (the last: the normal forces as held inputs, as in the `DrillString` scene) prints,
 //! per N: CPU time per simulated second, per section and step, the string's steps, the
 //! sections' own steps (multirate), and the weight on bit.
 
@@ -53,7 +54,7 @@ fn main() {
         let config = StringConfig {
             law: Law::LuGre,
             harmonic: false,
-            normal_input: false,
+            normal_input: std::env::args().nth(4).is_some_and(|a| a == "normal-input"),
         };
         let mut sim = build_string(config, p, 0.0, tol).unwrap();
         sim.set_input(StringInput::VTop, 0.05).unwrap();

@@ -116,6 +116,10 @@ pub struct StringModel<L> {
     pub links: Links,
     pub harmonic: Option<Harmonic>,
     pub inputs: StringInputs,
+    /// Per section where the load is an input: the law at a load it held, with that load, so
+    /// that a held load input does not rebuild its law at every evaluation
+    /// ([`StringModel::hold_loads`]); a load that differs builds its own.
+    pub held: Vec<(f64, L)>,
 }
 
 /// The forces at one state: friction per section and the two ends (links are computed where
@@ -134,8 +138,30 @@ impl<L: FrictionLaw> StringModel<L> {
     #[inline(always)]
     pub fn law(&self, i: usize, t: f64) -> L {
         match self.inputs.f_n.get(i) {
-            Some(track) => L::new(&loaded(&self.sections[i].params, track.at(t).max(0.0))),
+            Some(track) => {
+                let f_n = track.at(t).max(0.0);
+                match self.held.get(i) {
+                    Some(&(held, law)) if held == f_n => law,
+                    _ => L::new(&loaded(&self.sections[i].params, f_n)),
+                }
+            }
             None => self.sections[i].law,
+        }
+    }
+
+    /// Builds, for each load input that is held (no slope), the law at its value once: what
+    /// [`StringModel::law`] then returns for it, the same numbers as built at every evaluation.
+    pub fn hold_loads(&mut self) {
+        let n = self.n();
+        self.held.resize(
+            self.inputs.f_n.len().min(n),
+            (f64::NAN, self.sections[0].law),
+        );
+        for (i, track) in self.inputs.f_n.iter().enumerate() {
+            let f_n = track.value.max(0.0);
+            if track.slope == 0.0 && self.held[i].0 != f_n {
+                self.held[i] = (f_n, L::new(&loaded(&self.sections[i].params, f_n)));
+            }
         }
     }
 

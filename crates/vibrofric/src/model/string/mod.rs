@@ -344,6 +344,7 @@ impl<L: FrictionLaw> StringSim<L> {
             links: params.links.clone(),
             harmonic,
             inputs: StringInputs::zero(n, config.normal_input, &params.f_n, t),
+            held: Vec::new(),
         };
         let mut radau = BandRadau::new(t, vec![0.0; PER_SECTION * n], tol);
         radau.step_limit = sh.max_steps as u64;
@@ -565,6 +566,7 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
             });
         }
         let saved = (self.radau.clone(), self.refined);
+        self.model.hold_loads();
         let model = &self.model;
         let integrals = &mut self.integrals;
         integrals.fill(0.0);
