@@ -28,7 +28,7 @@ use crate::solver::{SolverError, SolverStats, Workspace, B, C};
 use crate::table::{number, InputId, Law, ParamId, Params, StringValues, StringVar};
 
 use super::simulator::{SimError, StepStats, TOLERANCE_RANGE};
-use super::time::MAX_INPUT_RATE;
+use super::time::{canonical_time, MAX_INPUT_RATE};
 
 /// Most sections a string may have (declared with the string's variables).
 pub use crate::table::MAX_SECTIONS;
@@ -580,6 +580,13 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
 
     fn step_to(&mut self, t_end: f64) -> Result<(), SimError> {
         let t0 = self.radau.t;
+        // The communication point the importer meant, as the single contact takes it: masters
+        // that reach k·h by other arithmetic (t += h, integer nanoseconds) step to the same
+        // instants and get the same numbers, bit for bit.
+        let t_end = match canonical_time(t_end) {
+            c if c > t0 => c,
+            _ => t_end,
+        };
         if !(t_end.is_finite() && t_end > t0) {
             return Err(SimError::Time {
                 now: t0,
