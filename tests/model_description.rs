@@ -598,7 +598,7 @@ fn each_scene_has_exactly_the_variables_spec_3_implies() {
     let f_n = p.vars.iter().find(|v| v.name == "F_N").unwrap();
     assert_eq!(
         (f_n.causality.as_str(), f_n.variability.as_str(), f_n.start),
-        ("input", "continuous", Some(55.0))
+        ("input", "continuous", Some(2280.0))
     );
     // Spring drive: k_d, c_d, v_d input, F_d output.
     expect(

@@ -74,11 +74,13 @@ fn assert_coarse_agree(runs: &[Vec<Outputs>], scale_x: f64, scale_v: f64, f_c: f
 fn drill_string_held_released_held_at_every_communication_step() {
     let scene = Scene::load(Path::new("scenes/drill-string-axial.toml")).unwrap();
     let p = scene.start;
-    // Held at 5 N (below F_C = 11 N), released with 20 N for 0.5 s, held again at 5 N.
-    let f_d = |t: f64| match t {
-        t if t < 0.5 - 1e-9 => 5.0,
-        t if t < 1.0 - 1e-9 => 20.0,
-        _ => 5.0,
+    // A 10 m section of drill pipe (267 kg, F_C = 684 N, F_S = 889.2 N): held at 300 N, released
+    // with 1200 N (above the static force) for 0.5 s, held again at 300 N.
+    let (hold, push) = (300.0, 1200.0);
+    let f_d = move |t: f64| match t {
+        t if t < 0.5 - 1e-9 => hold,
+        t if t < 1.0 - 1e-9 => push,
+        _ => hold,
     };
     let inputs = |t: f64| vec![(InputId::FD, f_d(t))];
     let runs: Vec<_> = STEPS
@@ -95,23 +97,28 @@ fn drill_string_held_released_held_at_every_communication_step() {
             0.5 * (k + 1) as f64,
             o.v_x
         );
-        assert!((o.f_fx - 5.0).abs() < 1e-6, "t {}: F_Fx = {}", 0.5, o.f_fx);
+        assert!(
+            (o.f_fx - hold).abs() < 1e-6 * hold / 5.0,
+            "t {}: F_Fx = {}",
+            0.5 * (k + 1) as f64,
+            o.f_fx
+        );
     }
     // Released: well above the Stribeck velocity the friction is F_C, so over the last 0.5 s
     // of the push the body gains (F_d − F_C)/m · 0.5 s (h_v = 0).
     let f_c = p.f_c();
     assert!(fine[1].v_x > 0.1, "released: v_x = {}", fine[1].v_x);
-    let gain = (20.0 - f_c) / p.m * 0.5;
+    let gain = (push - f_c) / p.m * 0.5;
     assert!(
         (fine[1].v_x - gain).abs() < 0.02 * gain,
         "v_x {} vs (F_d − F_C)/m·t = {gain}",
         fine[1].v_x
     );
-    // Held again: it decelerates at (5 − F_C)/m and sticks.
-    let decel = (f_c - 5.0) / p.m;
+    // Held again: it decelerates at (F_C − 300 N)/m and sticks.
+    let decel = (f_c - hold) / p.m;
     assert!(
         (fine[2].v_x - (fine[1].v_x - decel * 0.5)).abs() < 1e-3 * fine[1].v_x,
-        "v_x {} after 0.5 s at 5 N",
+        "v_x {} after 0.5 s at {hold} N",
         fine[2].v_x
     );
     assert!(fine[5].x > fine[1].x);

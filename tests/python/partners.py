@@ -260,3 +260,88 @@ def fmi_sim_csv_linux_and_windows(fmu, interface, h, stop, tmp_path, env):
     args = fmi_sim_args(windows_path(fmu), windows_path(windows), interface, h, stop)
     run_checked(["wine", str(fmi_sim_windows_exe()), *args], env=env)
     return linux.read_bytes(), windows.read_bytes()
+
+
+def string_scene_text(sections, ident):
+    """scenes/drill-string.toml cut to `sections` sections under the model identifier `ident`,
+    with start values that move it without any input from the importer (the partners set
+    none): the top fed at 0.5 m/s, the wall under each section moving at its own velocity."""
+    root = pathlib.Path(__file__).resolve().parents[2]
+    text = (root / "scenes" / "drill-string.toml").read_text()
+    for old, new in [('model_identifier = "DrillString"', f'model_identifier = "{ident}"'),
+                     ("\nsections = 100\n", f"\nsections = {sections}\n"),
+                     ("100 sections", f"{sections} sections")]:
+        assert old in text, old
+        text = text.replace(old, new)
+    # [start] is the last table: these lines go into it.
+    walls = ", ".join(repr(0.01 * ((-1) ** i) * (1 + i) / sections) for i in range(sections))
+    return text + f"v_top = 0.5\nv_sx = [{walls}]\n"
+
+
+def export_string_fmus(dist, exe, out, sections, ident="DrillStringShort"):
+    """A small string FMU in both editions, `out/<ident>.fmu` and `out/fmi3/<ident>.fmu`,
+    written by the exporter (`vibrofric export --library`) around the Linux library of
+    dist/DrillString.fmu, with the other platforms' libraries of dist's DrillString FMUs added
+    (every FMU of an export holds the same libraries, named after its model identifier): the
+    libraries dist/ was tested with, Windows' among them for fmi-sim under Wine."""
+    import zipfile
+
+    out = pathlib.Path(out)
+    scene = out / "scene.toml"
+    scene.write_text(string_scene_text(sections, ident))
+    src2, src3 = pathlib.Path(dist) / "DrillString.fmu", pathlib.Path(dist) / "fmi3" / "DrillString.fmu"
+    lib = out / "libvibrofric.so"
+    with zipfile.ZipFile(src2) as z:
+        lib.write_bytes(z.read("binaries/linux64/DrillString.so"))
+    p = subprocess.run([str(exe), "export", str(scene), "--out", str(out), "--library", str(lib),
+                        "--platforms", "linux64"], capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stdout + p.stderr
+    fmus = out / f"{ident}.fmu", out / "fmi3" / f"{ident}.fmu"
+    for src, fmu in zip((src2, src3), fmus):
+        with zipfile.ZipFile(fmu) as z:
+            have = {i.filename: z.read(i.filename) for i in z.infolist()}
+        with zipfile.ZipFile(src) as z:
+            for name in z.namelist():
+                if not name.startswith("binaries/") or name.endswith("/"):
+                    continue
+                folder, file = name.rsplit("/", 1)
+                mine = f"{folder}/{file.replace('DrillString', ident, 1)}"
+                if mine in have:
+                    assert have[mine] == z.read(name), f"{mine}: not dist's library"
+                else:
+                    have[mine] = z.read(name)
+        with zipfile.ZipFile(fmu, "w", zipfile.ZIP_DEFLATED) as z:
+            for name, data in have.items():
+                z.writestr(name, data)
+    return fmus
+
+
+def run_fmpy3(fmu, points, steps):
+    """fmpy's FMU3Slave through the communication points and step sizes given; each output
+    array read whole (`getFloat64([vr], nValues=n)`) and split into the FMI 2.0 edition's
+    scalars `name[i]`; outputs after each step."""
+    from conftest import opened
+
+    with opened(fmu) as o:
+        outs = []
+        for v in o.md.modelVariables:
+            if v.causality != "output":
+                continue
+            n = int(np.prod([int(d.start) for d in v.dimensions])) if v.dimensions else None
+            outs.append((v.name, v.valueReference, n))
+        s = o.instance("fmi3")
+        s.enterInitializationMode(startTime=0.0)
+        s.exitInitializationMode()
+        rows = []
+        for t, h in zip(points, steps):
+            s.doStep(currentCommunicationPoint=float(t), communicationStepSize=float(h))
+            row = {}
+            for name, vr, n in outs:
+                values = s.getFloat64([vr], nValues=n or 1)
+                if n is None:
+                    row[name] = values[0]
+                else:
+                    row.update({f"{name}[{i + 1}]": x for i, x in enumerate(values)})
+            rows.append(row)
+        s.terminate()
+    return {name: np.array([r[name] for r in rows]) for name in rows[0]}

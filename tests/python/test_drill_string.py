@@ -11,11 +11,15 @@ spec = importlib.util.spec_from_file_location("host", ROOT / "examples" / "drill
 host = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(host)
 
-M = 5.6  # the section's mass (the default of m)
+M = 267.0  # the section's mass: 10 m of 5-inch drill pipe (the scene's m)
 
 
 def test_drill_string_host_lifts_off_lands_and_keeps_the_momentum_balance():
     step = 2e-4
+    from fmpy import read_model_description
+
+    m = next(v for v in read_model_description(fmu_path("DrillStringContact")).modelVariables if v.name == "m")
+    assert float(m.start) == M, m.start
     rows = host.run(stop=0.2, step=step, fmu_path=fmu_path("DrillStringContact"))
     assert all(math.isfinite(v) for r in rows for v in r)
     off = [r for r in rows if r[1] == 0.0 and r[2] == 0.0]

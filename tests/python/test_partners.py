@@ -12,6 +12,12 @@ ecos (ecospy) and fmi-sim — and agrees with fmpy (see docs/interoperability.md
 fmi-sim built for Windows runs under Wine every FMU as the Linux fmi-sim does, and writes the same
 CSV files byte for byte (test_fmi_sim_on_windows_writes_the_linux_csv_files).
 
+A string of contacts (a copy of DrillString cut to 8 sections, exported by the test around dist's
+libraries) runs in libcosim, ecos and fmi-sim (FMI 2.0 scalars x[1] ...) and through fmpy's FMI
+3.0 arrays, each output element bit for bit as fmpy's FMI 2.0 run, on the partner's grid and on
+k·h; fmi-sim under Wine writes the Linux CSV file. fmi-sim 0.7.0 cannot read FMI 3.0 arrays
+(test_known_difference_fmi_sim_reads_fmi3_arrays_as_scalars).
+
 A partner that is not installed fails its tests unless VIBROFRIC_SKIP_PARTNERS names it
 (comma-separated: libcosim, ecos, fmi-sim, fmi-sim-windows); tests/all.sh installs all of them.
 """
@@ -24,10 +30,10 @@ import numpy as np
 import pytest
 
 import partners
-from conftest import SCENES, fmu_path
+from conftest import DIST, SCENES, fmu_path, vibrofric_exe
 
-# Strings of contacts (`[string]`) are not yet among the partners' runs (test_string.py runs
-# them through fmpy).
+# Strings of contacts (`[string]`) have the tests at the end of this file: a small copy of
+# DrillString exported here (the 100-section standard scene is test_string.py's).
 SCENE_FILES = sorted(p for p in SCENES.glob("*.toml") if "string" not in tomllib.loads(p.read_text()))
 IDENTIFIERS = [tomllib.loads(p.read_text())["model_identifier"] for p in SCENE_FILES]
 
@@ -338,3 +344,120 @@ def test_known_difference_fmi_sim_rejects_standard_scalar_variable_attributes(tm
         capture_output=True, text=True, env=dict(os.environ, RUST_BACKTRACE="0"), timeout=120)
     assert p.returncode != 0
     assert 'unknown field "canHandleMultipleSetPerTimeInstant" in element "ScalarVariable"' in p.stderr, p.stderr
+
+
+# ---- a string of contacts -----------------------------------------------------------------------
+
+STRING_SECTIONS = 8
+_string = {}
+
+
+def string_fmus(tmp_path_factory):
+    """The small string's FMUs (FMI 2.0, FMI 3.0), exported once per session."""
+    if "fmus" not in _string:
+        out = tmp_path_factory.mktemp("string")
+        _string["fmus"] = partners.export_string_fmus(DIST, vibrofric_exe(), out, STRING_SECTIONS)
+    return _string["fmus"]
+
+
+def string_nominal(fmu2):
+    """fmpy's FMI 2.0 Co-Simulation of the string on the nominal grid k·h (simulate_fmu)."""
+    if "nominal" not in _string:
+        _string["nominal"] = partners.run_fmpy(fmu2, H, N)
+    return _string["nominal"]
+
+
+def first_difference(ref, other):
+    """The first output element and step where two runs differ in bits, or None."""
+    for name, b in ref.items():
+        a = other[name]
+        assert a.shape == b.shape, (name, a.shape, b.shape)
+        bad = np.flatnonzero(a.view(np.uint64) != b.view(np.uint64))
+        if bad.size:
+            k = int(bad[0])
+            return f"{name} at step {k + 1}: {a[k]!r} against {b[k]!r}"
+    return None
+
+
+def check_string(partner, values, times, grid, fmu2):
+    """Bit for bit: against fmpy's FMI 2.0 run replaying the partner's grid, and against
+    fmpy's run on the nominal grid k·h."""
+    points, steps, ends = grid
+    np.testing.assert_array_equal(times, ends, err_msg=f"{partner} time grid")
+    ref = partners.run_fmpy_replay(fmu2, points, steps)
+    names = [f"{v}[{i}]" for v in ("x", "v_x", "s_x", "F_Fx", "F_Fx_step") for i in range(1, STRING_SECTIONS + 1)]
+    assert set(names) <= set(ref), sorted(set(names) - set(ref))
+    assert set(values) == set(ref), sorted(set(values) ^ set(ref))
+    moving = [n for n in names if np.ptp(ref[n]) > 0]
+    assert len(moving) == len(names), f"outputs constant throughout: {sorted(set(names) - set(moving))}"
+    diff = first_difference(ref, values)
+    assert diff is None, f"{partner}: {diff} (fmpy, the same grid)"
+    t_nom, nom = string_nominal(fmu2)
+    np.testing.assert_allclose(times, t_nom, rtol=1e-12, atol=0)
+    diff = first_difference(nom, values)
+    assert diff is None, f"{partner}: {diff} (fmpy, the grid k·h)"
+    print(f"STRING {partner}: {len(values)} outputs x {len(times)} steps bit for bit as fmpy's")
+
+
+def test_string_libcosim_agrees_with_fmpy_bit_for_bit(tmp_path_factory):
+    """A string of 8 sections (FMI 2.0 scalars x[1] ... x[8]) in libcosim: every output
+    element after every step is fmpy's, bit for bit."""
+    need("libcosim")
+    fmu2, _ = string_fmus(tmp_path_factory)
+    times, values = partners.run_libcosim(fmu2, H, N)
+    check_string("libcosim", values, times, partners.libcosim_grid(H, N), fmu2)
+
+
+def test_string_ecos_agrees_with_fmpy_bit_for_bit(tmp_path_factory, capfd):
+    need("ecos")
+    fmu2, _ = string_fmus(tmp_path_factory)
+    times, values, _ = partners.run_ecos(fmu2, H, N, capfd)
+    check_string("ecos", values, times, partners.accumulated_grid(H, N), fmu2)
+
+
+def test_string_fmi_sim_agrees_with_fmpy_bit_for_bit(tmp_path_factory, tmp_path):
+    need("fmi-sim")
+    fmu2, _ = string_fmus(tmp_path_factory)
+    times, values, _ = partners.run_fmi_sim(fmu2, H, N, tmp_path)
+    check_string("fmi-sim", values, times, partners.multiplied_grid(H, N), fmu2)
+
+
+def test_string_fmpy_fmi3_arrays_agree_with_fmpy_fmi2_bit_for_bit(tmp_path_factory):
+    """The FMI 3.0 edition through fmpy's FMU3Slave, each output an array read whole: element
+    i of each array is the FMI 2.0 edition's scalar name[i], bit for bit."""
+    fmu2, fmu3 = string_fmus(tmp_path_factory)
+    grid = partners.multiplied_grid(H, N)
+    values = partners.run_fmpy3(fmu3, grid[0], grid[1])
+    check_string("fmpy FMI 3.0", values, grid[2], grid, fmu2)
+
+
+def test_string_fmi_sim_on_windows_writes_the_linux_csv_file(tmp_path_factory, tmp_path):
+    """fmi-sim built for Windows, under Wine, runs the string's FMI 2.0 edition (its Windows
+    library) and writes the Linux fmi-sim's CSV file byte for byte."""
+    need("fmi-sim-windows")
+    fmu2, _ = string_fmus(tmp_path_factory)
+    linux, windows = partners.fmi_sim_csv_linux_and_windows(fmu2, "co-simulation", H, N * H,
+                                                            tmp_path, partners.wine_env())
+    rows = [r for r in linux.decode().splitlines()[1:] if r]
+    assert len(rows) == N + 1, len(rows)
+    assert windows == linux, "Windows fmi-sim's CSV differs from Linux fmi-sim's"
+    print(f"WINDOWS-FMI-SIM string: {len(rows)} rows: Windows (Wine) = Linux, byte for byte")
+
+
+def test_known_difference_fmi_sim_reads_fmi3_arrays_as_scalars(tmp_path_factory, tmp_path):
+    """fmi-sim 0.7.0 reads every FMI 3.0 output with nValues = 1: the string's FMI 3.0 edition,
+    whose outputs are arrays, refuses the call (naming the count it holds) and fmi-sim stops.
+    Its FMI 2.0 edition (scalars x[1] ...) is the one to give fmi-sim (tested above); fmpy reads
+    the arrays (test_string_fmpy_fmi3_arrays_agree_with_fmpy_fmi2_bit_for_bit). This pins the
+    partner's limitation so that a release which lifts it is noticed."""
+    need("fmi-sim")
+    _, fmu3 = string_fmus(tmp_path_factory)
+    import subprocess
+
+    args = [str(partners.fmi_sim_exe()),
+            *partners.fmi_sim_args(fmu3, tmp_path / "o.csv", "co-simulation", H, 3 * H)]
+    p = subprocess.run(args, capture_output=True, text=True, timeout=120,
+                       env=dict(os.environ, RUST_BACKTRACE="0", RUST_LOG="info"))
+    assert p.returncode != 0
+    assert (f"fmi3GetFloat64: nValues = 1: the 1 value references hold {STRING_SECTIONS} values"
+            in p.stderr), p.stderr[-2000:]

@@ -161,11 +161,45 @@ pub fn load_warning_html(scene: &Scene) -> String {
         return String::new();
     }
     let p = &scene.start;
+    let f_c = p.mu * p.f_n;
+    // The example: the same contact at 1000 N (at 500 N where 1000 N is the scene's own load).
+    let other = if p.f_n == 1000.0 { 500.0 } else { 1000.0 };
+    let example = if p.f_n > 0.0 {
+        format!(
+            " Example: at <code>F_N</code> = {} N (a parameter set so, or the input fed so) this contact has <code>F_S</code> = {} N and the damping ratio {} (<code>zeta_t</code> = {} at {} N).",
+            number(other),
+            number(round3(p.f_s * other / p.f_n)),
+            number(round3(p.zeta_t * other / p.f_n)),
+            number(p.zeta_t),
+            number(p.f_n)
+        )
+    } else {
+        String::new()
+    };
+    let pipe = if (p.f_n, p.mu, p.f_s) == (2280.0, 0.3, 889.2) {
+        " These are the numbers of a 10 m section of 5-inch drill pipe (<code>m</code> = 267 kg) lying on the wall with its buoyed weight, 2280 N, at <code>mu</code> = 0.3, as <code>scenes/drill-string.toml</code> gives each of its sections.".to_string()
+    } else {
+        format!(
+            " For a load of another size export a scene at that load: a 10 m section of 5-inch drill pipe lies on the wall with its buoyed weight, 2280 N, at <code>mu</code> = 0.3 (<code>F_C</code> = 684 N): <code>m</code> = 267, <code>F_N</code> = 2280, <code>mu</code> = 0.3, <code>F_S</code> = 889.2 = 1.3·F_C (as <code>scenes/drill-string-axial.toml</code> does). Fed 2280 N while exported at {} N, the contact damping is {} times what <code>zeta_t</code> = {} means.",
+            number(p.f_n),
+            number(round3(2280.0 / p.f_n)),
+            number(p.zeta_t)
+        )
+    };
     format!(
-        "<div style=\"border:2px solid #c00;padding:.5em\"><p><strong>At which load <code>F_S</code> and <code>zeta_t</code> are given:</strong> at this scene's start load, <code>F_N</code> = {} N and <code>mu</code> = {} (<code>F_C</code> = {} N, <code>F_S</code> = {} N). At any other load the law scales <code>F_S</code> with <code>mu·F_N</code> and <code>zeta_t</code> with <code>F_N</code>. Example: a 10 m section of 5-inch drill pipe lies on the wall with its buoyed weight, 2280 N, at <code>mu</code> = 0.3 (<code>F_C</code> = 684 N); export a scene at that load (<code>m</code> = 267, <code>F_N</code> = 2280, <code>mu</code> = 0.3, <code>F_S</code> = 889.2 = 1.3·F_C, as <code>scenes/drill-string.toml</code> does for each of its sections). Fed 2280 N while exported at 55 N, the contact damping is 41 times what <code>zeta_t</code> = 1 means.</p></div>\n",
+        "<div style=\"border:2px solid #c00;padding:.5em\"><p><strong>At which load <code>F_S</code> and <code>zeta_t</code> are given:</strong> at this scene's start load, <code>F_N</code> = {} N and <code>mu</code> = {} (<code>F_C</code> = {} N, <code>F_S</code> = {} N). At any other load the law scales <code>F_S</code> with <code>mu·F_N</code> and <code>zeta_t</code> with <code>F_N</code>.{example}{pipe}</p></div>\n",
         number(p.f_n),
         number(p.mu),
-        number(p.mu * p.f_n),
+        number(f_c),
         number(p.f_s)
     )
+}
+
+/// Three significant digits, for the examples' figures.
+fn round3(x: f64) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powi(2 - x.abs().log10().floor() as i32);
+    (x * scale).round() / scale
 }

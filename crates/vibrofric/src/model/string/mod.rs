@@ -10,12 +10,15 @@
 //!
 //! - `equations.rs`: the right-hand side, its banded Jacobian and the forces;
 //! - `refine.rs`: a section integrated again alone;
+//! - `single.rs`: one section with free ends, which is the single contact and is simulated as
+//!   it (bit for bit the scene without `[string]`);
 //! - this file: parameters and their rules, inputs, stepping to communication points with the
 //!   step means of the friction and end forces (the collocation quadrature of each accepted
 //!   step), outputs.
 
 mod equations;
 mod refine;
+mod single;
 
 pub use equations::{Links, Section, StringInputs, StringModel, PER_SECTION};
 
@@ -25,7 +28,7 @@ use crate::solver::{SolverError, SolverStats, Workspace, B, C};
 use crate::table::{number, InputId, Law, ParamId, Params, StringValues, StringVar};
 
 use super::simulator::{SimError, StepStats, TOLERANCE_RANGE};
-use super::time::MAX_INPUT_RATE;
+use super::time::{canonical_time, MAX_INPUT_RATE};
 
 /// Most sections a string may have (declared with the string's variables).
 pub use crate::table::MAX_SECTIONS;
@@ -227,6 +230,33 @@ impl StringInput {
             _ => InputId::VSx,
         }
     }
+
+    /// The value against the rule of the input it is like, named with its index.
+    fn check(self, value: f64) -> Result<(), SimError> {
+        let like = self.like();
+        if like.rule().holds(value) {
+            return Ok(());
+        }
+        Err(SimError::Inconsistent(format!(
+            "{} = {}: {}",
+            self.name(),
+            number(value),
+            like.rule().text(value, like.unit())
+        )))
+    }
+
+    /// A time derivative: finite and at most [`MAX_INPUT_RATE`] in magnitude.
+    fn check_derivative(self, value: f64) -> Result<(), SimError> {
+        if value.is_finite() && value.abs() <= MAX_INPUT_RATE {
+            return Ok(());
+        }
+        Err(SimError::Inconsistent(format!(
+            "derivative of {} = {}: must be finite and at most {} in magnitude",
+            self.name(),
+            number(value),
+            number(MAX_INPUT_RATE)
+        )))
+    }
 }
 
 /// The outputs of a string at the current time.
@@ -276,7 +306,9 @@ pub trait StringSimulator: Send {
 }
 
 /// Builds a string at rest at the origin (zero deformation, zero inputs, the load inputs at the
-/// parameters' `F_N`) at `t_start` with relative tolerance `tolerance`.
+/// parameters' `F_N`) at `t_start` with relative tolerance `tolerance`. A string of one section
+/// with free ends (its four end elements 0) is the single contact, simulated as the single
+/// contact (`single.rs`): bit for bit the scene without `[string]`.
 pub fn build_string(
     config: StringConfig,
     params: StringParams,
@@ -294,6 +326,11 @@ pub fn build_string(
         });
     }
     let tol = tolerance.clamp(TOLERANCE_RANGE.0, TOLERANCE_RANGE.1);
+    if single::applies(&params) {
+        return Ok(Box::new(single::Single::new(
+            config, &params, t_start, tol,
+        )?));
+    }
     Ok(match config.law {
         Law::Dahl => Box::new(StringSim::<Dahl>::new(config, params, t_start, tol)),
         Law::Dupont => Box::new(StringSim::<Dupont>::new(config, params, t_start, tol)),
@@ -518,15 +555,7 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
     }
 
     fn set_input(&mut self, input: StringInput, value: f64) -> Result<(), SimError> {
-        let like = input.like();
-        if !like.rule().holds(value) {
-            return Err(SimError::Inconsistent(format!(
-                "{} = {}: {}",
-                input.name(),
-                number(value),
-                like.rule().text(value, like.unit())
-            )));
-        }
+        input.check(value)?;
         let t = self.radau.t;
         self.track(input)?;
         self.anchor_tracks();
@@ -539,14 +568,7 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
     }
 
     fn set_input_derivative(&mut self, input: StringInput, value: f64) -> Result<(), SimError> {
-        if !(value.is_finite() && value.abs() <= MAX_INPUT_RATE) {
-            return Err(SimError::Inconsistent(format!(
-                "derivative of {} = {}: must be finite and at most {} in magnitude",
-                input.name(),
-                number(value),
-                number(MAX_INPUT_RATE)
-            )));
-        }
+        input.check_derivative(value)?;
         let t = self.radau.t;
         self.track(input)?;
         self.anchor_tracks();
@@ -559,6 +581,13 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
 
     fn step_to(&mut self, t_end: f64) -> Result<(), SimError> {
         let t0 = self.radau.t;
+        // The communication point the importer meant, as the single contact takes it: masters
+        // that reach k·h by other arithmetic (t += h, integer nanoseconds) step to the same
+        // instants and get the same numbers, bit for bit.
+        let t_end = match canonical_time(t_end) {
+            c if c > t0 => c,
+            _ => t_end,
+        };
         if !(t_end.is_finite() && t_end > t0) {
             return Err(SimError::Time {
                 now: t0,
