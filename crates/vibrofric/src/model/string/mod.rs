@@ -10,14 +10,17 @@
 //!
 //! - `equations.rs`: the right-hand side, its banded Jacobian and the forces;
 //! - `refine.rs`: a section integrated again alone;
+//! - `exchange.rs`: the string for an importer's integrator (Model Exchange);
 //! - this file: parameters and their rules, inputs, stepping to communication points with the
 //!   step means of the friction and end forces (the collocation quadrature of each accepted
 //!   step), outputs.
 
 mod equations;
+mod exchange;
 mod refine;
 
 pub use equations::{Links, Section, StringInputs, StringModel, PER_SECTION};
+pub use exchange::{state_name, InputDirection, StringExchange};
 
 use crate::physics::{Dahl, Dupont, FrictionLaw, Harmonic, InputTrack, LuGre};
 use crate::solver::band::{Accepted, BandRadau, BandSystem, BandWork};
@@ -248,7 +251,7 @@ pub struct StringOutputs {
 
 /// A string of contacts that can be stepped in time; a method that returns an error leaves it
 /// as it was.
-pub trait StringSimulator: Send {
+pub trait StringSimulator: StringExchange + Send {
     fn sections(&self) -> usize;
     fn time(&self) -> f64;
     fn tolerance(&self) -> f64;
@@ -320,6 +323,10 @@ struct StringSim<L> {
     work3: Workspace,
     /// Scratch: the string's error scale at a step's start.
     scratch: Vec<f64>,
+    /// Model Exchange: the step means are the instantaneous forces.
+    exchange: bool,
+    /// Model Exchange: each section's side of its event indicator (0 before the first event).
+    sides: Vec<f64>,
 }
 
 impl<L: FrictionLaw> StringSim<L> {
@@ -357,6 +364,8 @@ impl<L: FrictionLaw> StringSim<L> {
             refined: SolverStats::default(),
             work3: Workspace::new(PER_SECTION),
             scratch: vec![0.0; PER_SECTION * n],
+            exchange: false,
+            sides: vec![0.0; n],
         };
         let zero = vec![0.0; PER_SECTION * n];
         sim.model.error_scale(&zero, &mut sim.nominal);
@@ -605,19 +614,20 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
         let n = self.model.n();
         let y = &self.radau.y;
         let now = self.instantaneous();
+        let means = if self.exchange { &now } else { &self.means };
         StringOutputs {
             x: (0..n).map(|i| y[PER_SECTION * i]).collect(),
             v_x: (0..n).map(|i| y[PER_SECTION * i + 1]).collect(),
             s_x: (0..n).map(|i| y[PER_SECTION * i + 2]).collect(),
             f_fx: now[..n].to_vec(),
-            f_fx_step: self.means[..n].to_vec(),
+            f_fx_step: means[..n].to_vec(),
             f_link: (0..n.saturating_sub(1))
                 .map(|i| self.model.link(i, y))
                 .collect(),
             f_top: now[n],
             f_bottom: now[n + 1],
-            f_top_step: self.means[n],
-            f_bottom_step: self.means[n + 1],
+            f_top_step: means[n],
+            f_bottom_step: means[n + 1],
         }
     }
 
@@ -651,7 +661,7 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
             out.extend_from_slice(&[tr.t_ref, tr.value, tr.slope]);
         }
         out.extend_from_slice(&[inp.x_top_ref, inp.x_bottom_ref]);
-        out.extend(self.integrals.iter().chain(&self.means));
+        out.extend(self.integrals.iter().chain(&self.means).chain(&self.sides));
         out
     }
 
@@ -661,7 +671,7 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
         let dim = PER_SECTION * n;
         let radau_len = BandRadau::saved_len(dim);
         let tracks = 2 * n + self.model.inputs.f_n.len() + 2;
-        if data.len() != radau_len + 3 * tracks + 2 + 2 * (n + 2) {
+        if data.len() != radau_len + 3 * tracks + 2 + 2 * (n + 2) + n {
             return Err(bad("has the wrong length for this string"));
         }
         if data.iter().any(|x| !x.is_finite()) {
@@ -688,8 +698,15 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
         let rest = &data[radau_len + 3 * tracks..];
         inputs.x_top_ref = rest[0];
         inputs.x_bottom_ref = rest[1];
+        let sides = &rest[2 + 2 * (n + 2)..];
+        if sides.iter().any(|x| ![-1.0, 0.0, 1.0].contains(x)) {
+            return Err(bad(
+                "holds an event indicator's side that is not -1, 0 or 1",
+            ));
+        }
+        self.sides = sides.to_vec();
         self.integrals = rest[2..2 + n + 2].to_vec();
-        self.means = rest[2 + n + 2..].to_vec();
+        self.means = rest[2 + n + 2..2 + 2 * (n + 2)].to_vec();
         self.model.inputs = inputs;
         self.radau = radau;
         Ok(())
