@@ -419,7 +419,11 @@ fn string_section(w: &mut String) -> Result<(), String> {
         let fmi2 = if v.shape() == Shape::One {
             v.vr().to_string()
         } else {
-            format!("`{}[i]`: {} + i", v.name(), v.vr())
+            format!(
+                "`{}`: {} + i",
+                v.element_name(0).replace("[1]", "[i]"),
+                v.vr()
+            )
         };
         let settable = v.settable(&Config::default()) || v == StringVar::FN;
         let (accepted, default) = if settable {

@@ -56,7 +56,7 @@ fn variables_html(scene: &Scene, ed: Edition) -> String {
         let (name, vr) = match (var.shape(), ed) {
             (Shape::One, _) => (var.name().to_string(), var.vr().to_string()),
             (_, Edition::Fmi2) => (
-                format!("{0}[1] … {0}[{len}]", var.name()),
+                format!("{} … {}", var.element_name(0), var.element_name(len - 1)),
                 format!("{} … {}", var.element_vr(0), var.element_vr(len - 1)),
             ),
             (_, Edition::Fmi3) => (
