@@ -251,7 +251,7 @@ impl<L: FrictionLaw> StringExchange for StringSim<L> {
             (l.k_bottom * d_bottom + l.c_bottom * du.v_bottom) * m.sections[n - 1].inv_m;
         // Each section's inputs, and its friction force along the whole direction.
         let mut d_force = vec![0.0; n];
-        for i in 0..n {
+        for (i, d_force) in d_force.iter_mut().enumerate() {
             let k = PER_SECTION * i;
             let (v, s) = (y[k + 1], y[k + 2]);
             let (law, vr, ds, lj) = m.partials(i, t, v, s);
@@ -272,7 +272,7 @@ impl<L: FrictionLaw> StringExchange for StringSim<L> {
             let inv_m = m.sections[i].inv_m;
             dd[k + 1] += (du.f_d.get(i).copied().unwrap_or(0.0) - df) * inv_m;
             dd[k + 2] += d_rate;
-            d_force[i] = df + lj.force_s[0][0] * d[k + 2] + lj.force_v[0][0] * d[k + 1];
+            *d_force = df + lj.force_s[0][0] * d[k + 2] + lj.force_v[0][0] * d[k + 1];
         }
         let mut dder: Vec<f64> = (0..PER_SECTION)
             .flat_map(|c| (0..n).map(move |i| (i, c)))
