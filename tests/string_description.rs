@@ -71,12 +71,16 @@ fn fmi2_variables(els: &[Element]) -> BTreeMap<String, (usize, BTreeMap<String, 
         .collect()
 }
 
-/// The unknowns of a `ModelStructure` list: index -> dependencies.
+/// The unknowns of a `ModelStructure` list: index -> dependencies (none where the attribute is
+/// absent: a derivative at the start depends on everything).
 fn unknowns(els: &[Element], list: &str) -> BTreeMap<usize, BTreeSet<usize>> {
     els.iter()
         .filter(|e| e.tag == "Unknown" && e.parent == list)
         .map(|e| {
-            let deps = e.attrs["dependencies"]
+            let deps = e
+                .attrs
+                .get("dependencies")
+                .map_or("", |d| d.as_str())
                 .split_whitespace()
                 .map(|d| d.parse().unwrap())
                 .collect();
@@ -92,8 +96,8 @@ fn fmi2_writes_arrays_as_scalars_with_stable_unique_value_references() {
     let els = elements(&doc);
     assert!(els.iter().any(|e| e.tag == "CoSimulation"));
     assert!(
-        !els.iter().any(|e| e.tag == "ModelExchange"),
-        "a string offers Co-Simulation only"
+        els.iter().any(|e| e.tag == "ModelExchange"),
+        "a string offers Model Exchange"
     );
     let vars = fmi2_variables(&els);
     let vr = |name: &str| -> u32 { vars[name].1["valueReference"].parse().unwrap() };
@@ -195,19 +199,71 @@ fn fmi2_model_structure_follows_each_section() {
         outputs.keys().copied().collect::<BTreeSet<_>>(),
         all_outputs
     );
-    assert_eq!(
-        initial.keys().copied().collect::<BTreeSet<_>>(),
-        all_outputs
-    );
+    // At the start: the outputs, the ends' points (Model Exchange's states of their own) and
+    // every derivative.
+    let derivatives = unknowns(&els, "Derivatives");
+    let mut starting = all_outputs.clone();
+    starting.extend(set(&["x_top", "x_bottom"]));
+    starting.extend(derivatives.keys().copied());
+    assert_eq!(initial.keys().copied().collect::<BTreeSet<_>>(), starting);
     // LuGre's force has terms in the relative velocity and scales with the load: a section's
-    // friction depends at once on its own wall velocity and normal force, nobody else's.
-    assert_eq!(outputs[&idx("F_Fx[2]")], set(&["v_sx[2]", "F_N[2]"]));
-    assert_eq!(outputs[&idx("s_x[3]")], set(&["F_N[3]"]));
-    for state in ["x[1]", "v_x[2]", "F_link[1]", "F_Fx_step[1]", "F_top_step"] {
-        assert!(outputs[&idx(state)].is_empty(), "{state}");
+    // friction depends on its own deformation, velocity, wall velocity and normal force,
+    // nobody else's (Model Exchange's knowns: states and inputs).
+    let f_fx2 = set(&["s_x[2]", "v_x[2]", "v_sx[2]", "F_N[2]"]);
+    assert_eq!(outputs[&idx("F_Fx[2]")], f_fx2);
+    assert_eq!(outputs[&idx("s_x[3]")], set(&["s_x[3]", "F_N[3]"]));
+    for state in ["x[1]", "v_x[2]"] {
+        assert_eq!(outputs[&idx(state)], set(&[state]), "{state}");
     }
-    assert_eq!(outputs[&idx("F_top")], set(&["v_top"]));
-    assert_eq!(outputs[&idx("F_bottom")], set(&["v_bottom"]));
+    assert_eq!(
+        outputs[&idx("F_link[1]")],
+        set(&["x[1]", "x[2]", "v_x[1]", "v_x[2]"])
+    );
+    assert_eq!(
+        outputs[&idx("F_Fx_step[1]")],
+        set(&["s_x[1]", "v_x[1]", "v_sx[1]", "F_N[1]"])
+    );
+    let top = set(&["x_top", "x[1]", "v_x[1]", "v_top"]);
+    assert_eq!(outputs[&idx("F_top")], top);
+    assert_eq!(outputs[&idx("F_top_step")], top);
+    assert_eq!(
+        outputs[&idx("F_bottom")],
+        set(&["x_bottom", "x[3]", "v_x[3]", "v_bottom"])
+    );
+    // The derivatives, in the order of the state vector [x, v_x, s_x, x_top, x_bottom], each
+    // naming its state; a section's acceleration depends on its neighbours and its own inputs
+    // (banded), the first and last on the ends.
+    let order: Vec<String> = els
+        .iter()
+        .filter(|e| e.tag == "Unknown" && e.parent == "Derivatives")
+        .map(|e| {
+            let k: usize = e.attrs["index"].parse().unwrap();
+            vars.iter().find(|(_, v)| v.0 == k).unwrap().0.clone()
+        })
+        .collect();
+    let mut want: Vec<String> = vec![];
+    for v in ["x", "v_x", "s_x"] {
+        want.extend((1..=3).map(|i| format!("der({v}[{i}])")));
+    }
+    want.extend(["der(x_top)".into(), "der(x_bottom)".into()]);
+    assert_eq!(order, want);
+    let reals: Vec<&Element> = els.iter().filter(|e| e.tag == "Real").collect();
+    assert_eq!(
+        reals[idx("der(v_x[2])") - 1].attrs["derivative"],
+        idx("v_x[2]").to_string()
+    );
+    assert_eq!(
+        derivatives[&idx("der(v_x[2])")],
+        set(&[
+            "x[1]", "x[2]", "x[3]", "v_x[1]", "v_x[2]", "v_x[3]", "s_x[2]", "F_d[2]", "v_sx[2]",
+            "F_N[2]"
+        ])
+    );
+    assert!(derivatives[&idx("der(v_x[1])")].is_superset(&set(&["x_top", "v_top"])));
+    assert!(derivatives[&idx("der(v_x[3])")].is_superset(&set(&["x_bottom", "v_bottom"])));
+    assert_eq!(derivatives[&idx("der(x[2])")], set(&["v_x[2]"]));
+    assert_eq!(derivatives[&idx("der(s_x[2])")], f_fx2);
+    assert_eq!(derivatives[&idx("der(x_top)")], set(&["v_top"]));
     // At the start (at rest, undeformed) the friction is LuGre's damping of the relative
     // velocity: the section's own m, F_N, mu, F_S, wall velocity and the shared law.
     assert_eq!(
@@ -223,7 +279,7 @@ fn fmi2_model_structure_follows_each_section() {
 fn fmi3_writes_one_array_variable_with_its_dimension() {
     let s = string_scene(4, "m = [1.0, 2.0, 3.0, 4.0]");
     let els = elements(&xml3::model_description(&s));
-    assert!(!els.iter().any(|e| e.tag == "ModelExchange"));
+    assert!(els.iter().any(|e| e.tag == "ModelExchange"));
     let vars: BTreeMap<String, (usize, BTreeMap<String, String>)> = els
         .iter()
         .enumerate()
@@ -261,9 +317,26 @@ fn fmi3_writes_one_array_variable_with_its_dimension() {
             .attrs["dependencies"]
             .clone()
     };
-    assert_eq!(deps("Output", 201_000_000), "2000000 103000000");
-    assert_eq!(deps("Output", 203_000_000), "");
-    assert_eq!(deps("Output", 221), "105");
+    // Model Exchange's knowns, whole arrays: states and inputs.
+    assert_eq!(
+        deps("Output", 201_000_000),
+        "2000000 103000000 205000000 207000000"
+    );
+    assert_eq!(deps("Output", 203_000_000), "203000000");
+    assert_eq!(deps("Output", 221), "105 309 203000000 205000000");
+    assert_eq!(
+        deps("ContinuousStateDerivative", 405_000_000),
+        "105 106 309 310 2000000 101000000 103000000 203000000 205000000 207000000"
+    );
+    assert_eq!(deps("EventIndicator", 501_000_000), "103000000 205000000");
+    assert_eq!(vars["der(x)"].1["derivative"], "203000000");
+    assert_eq!(dimension("der(v_x)").as_deref(), Some("4"));
+    let order: Vec<&String> = els
+        .iter()
+        .filter(|e| e.tag == "ContinuousStateDerivative")
+        .map(|e| &e.attrs["valueReference"])
+        .collect();
+    assert_eq!(order, ["403000000", "405000000", "401000000", "409", "410"]);
     assert_eq!(
         deps("InitialUnknown", 201_000_000),
         "4 9 10 11 1000000 2000000 3000000 7000000 103000000"

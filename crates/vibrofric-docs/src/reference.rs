@@ -386,13 +386,15 @@ fn string_section(w: &mut String) -> Result<(), String> {
         w,
         "\n## Strings of contacts (`[string]`)\n\n\
          A scene with `[string]` and `sections = N` (1 to {MAX_SECTIONS}; only `motion = \"longitudinal\"` \
-         and `drive = \"force\"`) holds N sections in one FMU (Co-Simulation), each on its own \
+         and `drive = \"force\"`) holds N sections in one FMU (Model Exchange and Co-Simulation), each on its own \
          contact of the scene's law and support, joined by links and held at the ends. The law's \
          other parameters (`k_t`, `v_S`, `zeta_t`, ...) are shared by every section and take one \
          number in `[start]`; the variables below take one number for every element or a list of \
          one per element (N per section, N − 1 per link), e.g. `m = [267.0, 267.0, 300.0]`. A \
          string has no `outputs` key (it has every output below) and no `T_avg`, `F_mean`, \
-         `reduction`, `P_diss`. Every parameter is fixed.\n\n\
+         `reduction`, `P_diss`. Every parameter is fixed. Model Exchange's continuous states \
+         are `x`, `v_x`, `s_x` and `x_top`, `x_bottom` (3N + 2), its event indicators \
+         `event.v_rx` (one per section); the step means are the instantaneous forces there.\n\n\
          Value references: an array of base `b` is `b·{ARRAY_STRIDE}` in FMI 3.0 (one variable `x` with a \
          dimension of its length) and `b·{ARRAY_STRIDE} + i` for the scalar `x[i]` of FMI 2.0; a \
          variable of the string keeps them in every FMU. The standard scene is \
@@ -412,13 +414,18 @@ fn string_section(w: &mut String) -> Result<(), String> {
             Role::Param => "parameter",
             Role::Input => "input",
             Role::Output => "output",
+            Role::Local => "local (Model Exchange)",
         };
         let fmi2 = if v.shape() == Shape::One {
             v.vr().to_string()
         } else {
-            format!("`{}[i]`: {} + i", v.name(), v.vr())
+            format!(
+                "`{}`: {} + i",
+                v.element_name(0).replace("[1]", "[i]"),
+                v.vr()
+            )
         };
-        let settable = v.role(&Config::default()) != Role::Output || v == StringVar::FN;
+        let settable = v.settable(&Config::default()) || v == StringVar::FN;
         let (accepted, default) = if settable {
             let r = v.rule();
             let default = match v.contact_param() {

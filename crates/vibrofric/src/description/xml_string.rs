@@ -5,9 +5,10 @@
 //! - FMI 3.0 writes it as one variable `x` (value reference `b·1000000`) with
 //!   `<Dimension start="N"/>` and its start values as a list.
 //!
-//! Every parameter of a string is fixed (set before initialization ends). The interfaces a
-//! string offers are written by [`write_interfaces`]: Co-Simulation for now (a string's Model
-//! Exchange is its one more element there).
+//! Every parameter of a string is fixed (set before initialization ends). A string offers
+//! Model Exchange and Co-Simulation ([`write_interfaces`]): the continuous states are the
+//! outputs `x`, `v_x`, `s_x` and the ends' points `x_top`, `x_bottom`, with derivatives
+//! `der(x)`, ... and one event indicator per section (`event.v_rx`).
 
 use std::io::Write;
 
@@ -43,6 +44,8 @@ pub struct Row {
     pub dimension: Option<usize>,
     /// The string variable and element (0-based) the row is, or `None` for a shared parameter.
     pub of: Option<(StringVar, usize)>,
+    /// A derivative's state: its value reference (of the element in FMI 2.0, the array in 3.0).
+    pub derivative_of: Option<u32>,
 }
 
 /// The rows of a string scene in `ModelVariables` order: the shared law parameters, then the
@@ -65,12 +68,17 @@ pub fn rows(scene: &Scene, edition: Edition) -> Vec<Row> {
             max: v.max(c),
             dimension: None,
             of: None,
+            derivative_of: None,
         })
         .collect();
     for var in StringVar::ALL.into_iter().filter(|v| v.present(c, n)) {
         let role = var.role(c);
-        let settable = role != Role::Output;
-        let row = |name: String, vr: u32, start: Vec<f64>, dimension, of| Row {
+        let settable = var.settable(c);
+        let row = |name: String,
+                   vr: u32,
+                   start: Vec<f64>,
+                   dimension,
+                   of: Option<(StringVar, usize)>| Row {
             name,
             vr,
             description: var.description(),
@@ -81,6 +89,7 @@ pub fn rows(scene: &Scene, edition: Edition) -> Vec<Row> {
             min: settable.then(|| var.rule().min()).flatten(),
             max: settable.then(|| var.rule().max()).flatten(),
             dimension,
+            derivative_of: of.and_then(|(v, i)| v.derivative_of().map(|x| element(x, i, edition))),
             of,
         };
         let start = if settable { values.get(var) } else { &[][..] };
@@ -161,6 +170,30 @@ pub fn initial_dependencies(c: &Config, row: &Row, edition: Edition) -> Vec<u32>
     vrs
 }
 
+/// The knowns of Model Exchange (states and inputs) a row of a string of `n` sections depends
+/// on ([`StringVar::exchange_dependencies`]; FMI 3.0: the whole arrays, what any element
+/// depends on), with an output's direct dependencies of Co-Simulation, sorted and once each.
+pub fn known_dependencies(c: &Config, n: usize, row: &Row, edition: Edition) -> Vec<u32> {
+    let Some((var, i)) = row.of else {
+        return vec![];
+    };
+    let elements: Vec<usize> = match (edition, row.dimension) {
+        (Edition::Fmi3, Some(len)) => (0..len).collect(),
+        _ => vec![i],
+    };
+    let mut vrs: Vec<u32> = elements
+        .into_iter()
+        .flat_map(|i| var.exchange_dependencies(c, n, i))
+        .map(|(v, k)| element(v, k, edition))
+        .collect();
+    if var.role(c) == Role::Output {
+        vrs.extend(direct_dependencies(c, row, edition));
+    }
+    vrs.sort_unstable();
+    vrs.dedup();
+    vrs
+}
+
 fn element(v: StringVar, k: usize, edition: Edition) -> u32 {
     match edition {
         Edition::Fmi2 => v.element_vr(k),
@@ -173,6 +206,7 @@ fn causality(role: Role) -> &'static str {
         Role::Param => "parameter",
         Role::Input => "input",
         Role::Output => "output",
+        Role::Local => "local",
     }
 }
 
@@ -186,10 +220,36 @@ pub fn model_description(scene: &Scene, edition: Edition, token: &str) -> String
     String::from_utf8(bytes).expect("quick-xml writes UTF-8 from UTF-8 input")
 }
 
-/// The interfaces a string scene offers: Co-Simulation. (Model Exchange of a string, when it
-/// comes, is its element written here.)
+/// The interfaces a string scene offers: Model Exchange (with exact directional derivatives
+/// from the string's banded Jacobian) and Co-Simulation.
 fn write_interfaces(w: &mut W, scene: &Scene, edition: Edition) -> std::io::Result<()> {
     let id = scene.model_identifier.as_str();
+    let exchange: Vec<(&str, &str)> = match edition {
+        Edition::Fmi2 => vec![
+            ("modelIdentifier", id),
+            ("needsExecutionTool", "false"),
+            // Nothing happens at the end of an integrator step: no step events.
+            ("completedIntegratorStepNotNeeded", "true"),
+            ("canBeInstantiatedOnlyOncePerProcess", "false"),
+            ("canNotUseMemoryManagementFunctions", "true"),
+            ("canGetAndSetFMUstate", "true"),
+            ("canSerializeFMUstate", "true"),
+            ("providesDirectionalDerivative", "true"),
+        ],
+        Edition::Fmi3 => vec![
+            ("modelIdentifier", id),
+            ("needsExecutionTool", "false"),
+            ("canBeInstantiatedOnlyOncePerProcess", "false"),
+            ("canGetAndSetFMUState", "true"),
+            ("canSerializeFMUState", "true"),
+            ("providesDirectionalDerivatives", "true"),
+            ("providesAdjointDerivatives", "false"),
+            ("providesPerElementDependencies", "false"),
+            ("needsCompletedIntegratorStep", "false"),
+            ("providesEvaluateDiscreteStates", "false"),
+        ],
+    };
+    empty(w, "ModelExchange", &exchange)?;
     let attrs: Vec<(&str, &str)> = match edition {
         Edition::Fmi2 => vec![
             ("modelIdentifier", id),
@@ -250,8 +310,11 @@ fn write_into(w: &mut W, scene: &Scene, edition: Edition, token: &str) -> std::i
         ("generationTool", tool.as_str()),
         ("variableNamingConvention", "flat"),
     ];
+    let indicators = StringVar::EventVrx
+        .len(values_of(scene).sections)
+        .to_string();
     if edition == Edition::Fmi2 {
-        top.push(("numberOfEventIndicators", "0"));
+        top.push(("numberOfEventIndicators", &indicators));
     }
     open(w, "fmiModelDescription", &top)?;
     write_interfaces(w, scene, edition)?;
@@ -297,14 +360,35 @@ fn write_into(w: &mut W, scene: &Scene, edition: Edition, token: &str) -> std::i
         )?;
     }
     for (k, r) in rows.iter().enumerate() {
-        write_variable(w, r, edition, k + 1)?;
+        // A derivative names its state: FMI 2.0 by its 1-based index, FMI 3.0 by value
+        // reference.
+        let derivative = r.derivative_of.map(|vr| match edition {
+            Edition::Fmi2 => (index_of(&rows, vr)).to_string(),
+            Edition::Fmi3 => vr.to_string(),
+        });
+        write_variable(w, r, edition, k + 1, derivative)?;
     }
     close(w, "ModelVariables")?;
-    write_structure(w, c, &rows, edition)?;
+    write_structure(w, c, values_of(scene).sections, &rows, edition)?;
     close(w, "fmiModelDescription")
 }
 
-fn write_variable(w: &mut W, r: &Row, edition: Edition, index: usize) -> std::io::Result<()> {
+/// The 1-based index of the row of value reference `vr`.
+fn index_of(rows: &[Row], vr: u32) -> usize {
+    rows.iter().position(|r| r.vr == vr).map_or(0, |k| k + 1)
+}
+
+fn values_of(scene: &Scene) -> &crate::table::StringValues {
+    scene.string.as_ref().expect("a string scene")
+}
+
+fn write_variable(
+    w: &mut W,
+    r: &Row,
+    edition: Edition,
+    index: usize,
+    derivative: Option<String>,
+) -> std::io::Result<()> {
     let vr = r.vr.to_string();
     let variability = match r.role {
         Role::Param => "fixed",
@@ -319,7 +403,7 @@ fn write_variable(w: &mut W, r: &Row, edition: Edition, index: usize) -> std::io
     ];
     match r.role {
         Role::Param => attrs.push(("initial", "exact".into())),
-        Role::Output => attrs.push(("initial", "calculated".into())),
+        Role::Output | Role::Local => attrs.push(("initial", "calculated".into())),
         Role::Input => {}
     }
     let start = r
@@ -339,7 +423,11 @@ fn write_variable(w: &mut W, r: &Row, edition: Edition, index: usize) -> std::io
             ))))?;
             let refs: Vec<(&str, &str)> = attrs.iter().map(|(n, x)| (*n, x.as_str())).collect();
             open(w, "ScalarVariable", &refs)?;
-            let mut real: Vec<(&str, &str)> = vec![("unit", r.unit)];
+            let mut real: Vec<(&str, &str)> = vec![];
+            if let Some(d) = &derivative {
+                real.push(("derivative", d));
+            }
+            real.push(("unit", r.unit));
             if let Some(d) = r.display_unit {
                 real.push(("displayUnit", d));
             }
@@ -352,6 +440,9 @@ fn write_variable(w: &mut W, r: &Row, edition: Edition, index: usize) -> std::io
         }
         Edition::Fmi3 => {
             attrs.push(("declaredType", type_name(r.unit, r.display_unit)));
+            if let Some(d) = derivative {
+                attrs.push(("derivative", d));
+            }
             attrs.extend(bounds);
             if !r.start.is_empty() {
                 attrs.push(("start", start));
@@ -372,53 +463,96 @@ fn write_variable(w: &mut W, r: &Row, edition: Edition, index: usize) -> std::io
     }
 }
 
-fn write_structure(w: &mut W, c: &Config, rows: &[Row], edition: Edition) -> std::io::Result<()> {
+fn write_structure(
+    w: &mut W,
+    c: &Config,
+    n: usize,
+    rows: &[Row],
+    edition: Edition,
+) -> std::io::Result<()> {
     // FMI 2.0 names variables by their 1-based index, FMI 3.0 by value reference.
     let refs = |vrs: Vec<u32>| -> String {
         match edition {
             Edition::Fmi3 => joined(&vrs),
             Edition::Fmi2 => {
-                let mut idx: Vec<usize> = vrs
-                    .iter()
-                    .filter_map(|vr| rows.iter().position(|r| r.vr == *vr).map(|k| k + 1))
-                    .collect();
+                let mut idx: Vec<usize> = vrs.iter().map(|&vr| index_of(rows, vr)).collect();
                 idx.sort_unstable();
                 joined(&idx)
             }
         }
     };
-    let outputs: Vec<(usize, &Row)> = rows
+    open(w, "ModelStructure", &[])?;
+    let (out_tag, der_tag, init_tag, key) = match edition {
+        Edition::Fmi2 => ("Unknown", "Unknown", "Unknown", "index"),
+        Edition::Fmi3 => (
+            "Output",
+            "ContinuousStateDerivative",
+            "InitialUnknown",
+            "valueReference",
+        ),
+    };
+    let id = |k: usize, r: &Row| match edition {
+        Edition::Fmi2 => (k + 1).to_string(),
+        Edition::Fmi3 => r.vr.to_string(),
+    };
+    let group = |w: &mut W, name: &str, start: bool| -> std::io::Result<()> {
+        match (edition, start) {
+            (Edition::Fmi3, _) => Ok(()),
+            (Edition::Fmi2, true) => open(w, name, &[]),
+            (Edition::Fmi2, false) => close(w, name),
+        }
+    };
+    group(w, "Outputs", true)?;
+    for (k, r) in rows
         .iter()
         .enumerate()
         .filter(|(_, r)| r.role == Role::Output)
-        .map(|(k, r)| (k + 1, r))
-        .collect();
-    open(w, "ModelStructure", &[])?;
-    let (out_tag, init_tag, key) = match edition {
-        Edition::Fmi2 => ("Unknown", "Unknown", "index"),
-        Edition::Fmi3 => ("Output", "InitialUnknown", "valueReference"),
-    };
-    let id = |k: usize, r: &Row| match edition {
-        Edition::Fmi2 => k.to_string(),
-        Edition::Fmi3 => r.vr.to_string(),
-    };
-    if edition == Edition::Fmi2 {
-        open(w, "Outputs", &[])?;
-    }
-    for &(k, r) in &outputs {
-        let deps = refs(direct_dependencies(c, r, edition));
+    {
+        let deps = refs(known_dependencies(c, n, r, edition));
         empty(w, out_tag, &[(key, &id(k, r)), ("dependencies", &deps)])?;
     }
-    if edition == Edition::Fmi2 {
-        close(w, "Outputs")?;
-        open(w, "InitialUnknowns", &[])?;
+    group(w, "Outputs", false)?;
+    // Model Exchange: the order of the derivatives is the order of the state vector.
+    group(w, "Derivatives", true)?;
+    for (k, r) in rows
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.derivative_of.is_some())
+    {
+        let deps = refs(known_dependencies(c, n, r, edition));
+        empty(w, der_tag, &[(key, &id(k, r)), ("dependencies", &deps)])?;
     }
-    for &(k, r) in &outputs {
-        let deps = refs(initial_dependencies(c, r, edition));
-        empty(w, init_tag, &[(key, &id(k, r)), ("dependencies", &deps)])?;
+    group(w, "Derivatives", false)?;
+    // The outputs at initialization; the ends' points start at 0 (no dependencies), the
+    // derivatives depend on every parameter and input (no `dependencies`). In index order.
+    group(w, "InitialUnknowns", true)?;
+    for (k, r) in rows.iter().enumerate() {
+        let var = r.of.map(|o| o.0);
+        if r.role == Role::Output {
+            let deps = refs(initial_dependencies(c, r, edition));
+            empty(w, init_tag, &[(key, &id(k, r)), ("dependencies", &deps)])?;
+        } else if matches!(var, Some(StringVar::XTop | StringVar::XBottom)) {
+            empty(w, init_tag, &[(key, &id(k, r)), ("dependencies", "")])?;
+        } else if r.derivative_of.is_some() {
+            empty(w, init_tag, &[(key, &id(k, r))])?;
+        }
     }
-    if edition == Edition::Fmi2 {
-        close(w, "InitialUnknowns")?;
+    group(w, "InitialUnknowns", false)?;
+    if edition == Edition::Fmi3 {
+        for r in rows
+            .iter()
+            .filter(|r| r.of.map(|o| o.0) == Some(StringVar::EventVrx))
+        {
+            let deps = refs(known_dependencies(c, n, r, edition));
+            empty(
+                w,
+                "EventIndicator",
+                &[
+                    ("valueReference", &r.vr.to_string()),
+                    ("dependencies", &deps),
+                ],
+            )?;
+        }
     }
     close(w, "ModelStructure")
 }

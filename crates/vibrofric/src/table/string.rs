@@ -16,6 +16,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::rule::non_negative;
+use super::{force_knowns, rate_knowns, velocity_knowns, Known, StateId};
 use super::{Config, Dependency, Depends, InputId, ParamId, Rule};
 
 /// Most sections a string may have.
@@ -55,6 +56,9 @@ pub enum Role {
     Param,
     Input,
     Output,
+    /// Model Exchange's continuous states of their own, their derivatives and the event
+    /// indicators (causality local, computed by the FMU).
+    Local,
 }
 
 /// The variables of a string scene besides the shared law parameters.
@@ -84,6 +88,14 @@ pub enum StringVar {
     FBottom,
     FTopStep,
     FBottomStep,
+    XTop,
+    XBottom,
+    DerX,
+    DerVx,
+    DerSx,
+    DerXTop,
+    DerXBottom,
+    EventVrx,
 }
 
 /// One declaration: name, base value reference, shape, causality (`F_N` is an input where the
@@ -118,11 +130,11 @@ const fn row(
     }
 }
 
-use Role::{Input as In, Output as Out, Param as Par};
+use Role::{Input as In, Local as Loc, Output as Out, Param as Par};
 use Shape::{Link, One, Section};
 
 /// The declarations, in the order of [`StringVar::ALL`].
-const ROWS: [Row; 24] = [
+const ROWS: [Row; 32] = [
     row("m", 1, Section, Par, "kg", None, "Mass of each section"),
     row("F_N", 2, Section, Par, "N", None, "Normal force pressing each section on its support (the wall)"),
     row("mu", 3, Section, Par, "1", None, "Coulomb friction coefficient of each section's contact"),
@@ -147,13 +159,21 @@ const ROWS: [Row; 24] = [
     row("F_bottom", 222, One, Out, "N", None, "Force of section N on what holds it (the weight on bit): k_bottom*(x[N]-x_bottom) + c_bottom*(v_x[N]-v_bottom)"),
     row("F_top_step", 223, One, Out, "N", None, "Mean of F_top over the last communication step (exact integral / step size)"),
     row("F_bottom_step", 224, One, Out, "N", None, "Mean of F_bottom over the last communication step (exact integral / step size)"),
+    row("x_top", 309, One, Loc, "m", Some("um"), "State (Model Exchange): position of the point the top element holds, the integral of v_top"),
+    row("x_bottom", 310, One, Loc, "m", Some("um"), "State (Model Exchange): position of the point the bottom element holds, the integral of v_bottom"),
+    row("der(x)", 403, Section, Loc, "m/s", Some("mm/s"), "Velocity of each section (the derivative of the state x)"),
+    row("der(v_x)", 405, Section, Loc, "m/s2", None, "Acceleration of each section (the derivative of the state v_x)"),
+    row("der(s_x)", 401, Section, Loc, "m/s", Some("mm/s"), "Deformation rate of each section's contact (the friction law; the derivative of the state s_x)"),
+    row("der(x_top)", 409, One, Loc, "m/s", Some("mm/s"), "Velocity of the point the top element holds (v_top)"),
+    row("der(x_bottom)", 410, One, Loc, "m/s", Some("mm/s"), "Velocity of the point the bottom element holds (v_bottom)"),
+    row("event.v_rx", 501, Section, Loc, "m/s", None, "Event indicator (Model Exchange): each section's v_rx = v_x - v_sx shifted by its hysteresis band (a sign change is a kink of |v_r|)"),
 ];
 
 /// The rule of the links and end elements (finite, ≥ 0).
 pub const LINK_RULE: Rule = non_negative(0.0, 1e13);
 
 impl StringVar {
-    pub const ALL: [StringVar; 24] = [
+    pub const ALL: [StringVar; 32] = [
         StringVar::M,
         StringVar::FN,
         StringVar::Mu,
@@ -178,7 +198,51 @@ impl StringVar {
         StringVar::FBottom,
         StringVar::FTopStep,
         StringVar::FBottomStep,
+        StringVar::XTop,
+        StringVar::XBottom,
+        StringVar::DerX,
+        StringVar::DerVx,
+        StringVar::DerSx,
+        StringVar::DerXTop,
+        StringVar::DerXBottom,
+        StringVar::EventVrx,
     ];
+
+    /// Model Exchange's derivatives, in the order of the state vector `[x, v_x, s_x, x_top,
+    /// x_bottom]` (each array's elements in order).
+    pub const DERIVATIVES: [StringVar; 5] = [
+        StringVar::DerX,
+        StringVar::DerVx,
+        StringVar::DerSx,
+        StringVar::DerXTop,
+        StringVar::DerXBottom,
+    ];
+
+    /// The state a derivative variable is the derivative of.
+    pub fn derivative_of(self) -> Option<StringVar> {
+        match self {
+            StringVar::DerX => Some(StringVar::X),
+            StringVar::DerVx => Some(StringVar::Vx),
+            StringVar::DerSx => Some(StringVar::Sx),
+            StringVar::DerXTop => Some(StringVar::XTop),
+            StringVar::DerXBottom => Some(StringVar::XBottom),
+            _ => None,
+        }
+    }
+
+    /// Where element `i` of a state (or of its derivative) sits in the state vector of a
+    /// string of `n` sections; `None` for a variable that is neither.
+    pub fn state_index(self, n: usize, i: usize) -> Option<usize> {
+        let state = self.derivative_of().unwrap_or(self);
+        match state {
+            StringVar::X => Some(i),
+            StringVar::Vx => Some(n + i),
+            StringVar::Sx => Some(2 * n + i),
+            StringVar::XTop => Some(3 * n),
+            StringVar::XBottom => Some(3 * n + 1),
+            _ => None,
+        }
+    }
 
     fn row(self) -> &'static Row {
         &ROWS[self as usize]
@@ -219,7 +283,7 @@ impl StringVar {
 
     /// Parameters of the string are fixed (set before initialization ends).
     pub fn settable(self, c: &Config) -> bool {
-        self.role(c) != Role::Output
+        matches!(self.role(c), Role::Param | Role::Input)
     }
 
     /// How many values it has in a string of `n` sections.
@@ -259,7 +323,9 @@ impl StringVar {
 
     /// The FMI 2.0 name of element `i` (0-based): `x[1]` for the first.
     pub fn element_name(self, i: usize) -> String {
-        if self.shape().is_array() {
+        if let (Some(x), true) = (self.derivative_of(), self.shape().is_array()) {
+            format!("der({})", x.element_name(i))
+        } else if self.shape().is_array() {
             format!("{}[{}]", self.name(), i + 1)
         } else {
             self.name().to_string()
@@ -374,6 +440,70 @@ impl StringVar {
     }
 }
 
+impl StringVar {
+    /// The knowns of Model Exchange (states and inputs, as variable and element) element `i`
+    /// of a derivative, an output or an event indicator depends on, in a string of `n`
+    /// sections, sorted and once each: a section's velocity and deformation rate and its
+    /// friction force as the single contact's ([`rate_knowns`], [`force_knowns`]); its
+    /// acceleration also on its neighbours' positions and velocities (the links), its own drive
+    /// force, and at the ends on the ends' points and their velocities. The step means are the
+    /// instantaneous forces in Model Exchange (an importer's integrator has no communication
+    /// steps).
+    pub fn exchange_dependencies(self, c: &Config, n: usize, i: usize) -> Vec<(StringVar, usize)> {
+        use StringVar as S;
+        let section = |ks: Vec<Known>| -> Vec<(StringVar, usize)> {
+            ks.into_iter()
+                .filter_map(|k| match k {
+                    Known::State(StateId::Sx) => Some((S::Sx, i)),
+                    Known::State(StateId::Vx) => Some((S::Vx, i)),
+                    Known::State(StateId::X) => Some((S::X, i)),
+                    Known::Input(input) => section_input(input, i),
+                    Known::State(_) => None,
+                })
+                .collect()
+        };
+        let mut d = match self {
+            S::DerX => vec![(S::Vx, i)],
+            S::DerVx => {
+                let mut d = section(force_knowns(c, 0));
+                d.extend([(S::X, i), (S::Vx, i), (S::FD, i)]);
+                if i > 0 {
+                    d.extend([(S::X, i - 1), (S::Vx, i - 1)]);
+                }
+                if i + 1 < n {
+                    d.extend([(S::X, i + 1), (S::Vx, i + 1)]);
+                }
+                if i == 0 {
+                    d.extend([(S::XTop, 0), (S::VTop, 0)]);
+                }
+                if i + 1 == n {
+                    d.extend([(S::XBottom, 0), (S::VBottom, 0)]);
+                }
+                d
+            }
+            S::DerSx => section(rate_knowns(c, 0)),
+            S::DerXTop => vec![(S::VTop, 0)],
+            S::DerXBottom => vec![(S::VBottom, 0)],
+            S::EventVrx => section(velocity_knowns(c)),
+            S::FFx | S::FFxStep => section(force_knowns(c, 0)),
+            S::X | S::Vx | S::Sx => vec![(self, i)],
+            S::FLink => vec![(S::X, i), (S::X, i + 1), (S::Vx, i), (S::Vx, i + 1)],
+            S::FTop | S::FTopStep => vec![(S::XTop, 0), (S::X, 0), (S::Vx, 0), (S::VTop, 0)],
+            S::FBottom | S::FBottomStep => vec![
+                (S::XBottom, 0),
+                (S::X, n - 1),
+                (S::Vx, n - 1),
+                (S::VBottom, 0),
+            ],
+            _ => vec![],
+        };
+        d.retain(|(v, _)| v.present(c, n));
+        d.sort_unstable();
+        d.dedup();
+        d
+    }
+}
+
 /// A variable an output of a string depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StringDependency {
@@ -432,7 +562,7 @@ impl StringValues {
                     _ => 0.0,
                 };
                 match v.row().role {
-                    Role::Output => vec![],
+                    Role::Output | Role::Local => vec![],
                     _ => vec![x; v.len(n)],
                 }
             })

@@ -459,7 +459,7 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     dvUnknown: *mut fmi2Real,
 ) -> fmi2Status {
     const F: Function = Function::GetDirectionalDerivative;
-    call(c, F, |inst, _| {
+    call(c, F, |inst, call| {
         let Some(unknowns) = array(vUnknown_ref, nUnknown) else {
             return Err(Refusal::null("vUnknown_ref", nUnknown));
         };
@@ -472,7 +472,7 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
         let Some(dv_unknown) = array_mut(dvUnknown, nUnknown) else {
             return Err(Refusal::null("dvUnknown", nUnknown));
         };
-        inst.get_directional_derivative(unknowns, knowns, dv_known, dv_unknown)
+        inst.get_directional_derivative(call, unknowns, knowns, dv_known, dv_unknown)
     })
 }
 

@@ -24,6 +24,7 @@ mod model_exchange;
 mod saved_states;
 mod stepping;
 mod string;
+mod string_exchange;
 mod values;
 
 pub use model_exchange::EventInfo;
@@ -97,12 +98,6 @@ impl Instance {
                 return None;
             }
         };
-        if scene.string.is_some() && interface == Interface::ModelExchange {
-            let error = Category::StatusError.name();
-            let msg = format!("{}: {} is a string of contacts, which offers Co-Simulation only (its model description has no ModelExchange element)", call.name, scene.model_identifier);
-            logger.log(Status::Error, error, &msg);
-            return None;
-        }
         let mut vars: Vec<&'static Variable> = scene.variables().collect();
         vars.sort_by_key(|v| v.vr);
         let states = scene

@@ -78,16 +78,25 @@ impl Instance {
 
     /// `fmi3GetNumberOfContinuousStates`.
     pub fn number_of_states(&self) -> usize {
+        if self.string.is_some() {
+            return self.string_number_of_states();
+        }
         self.states.len()
     }
 
     /// `fmi3GetNumberOfEventIndicators`.
     pub fn number_of_event_indicators(&self) -> usize {
+        if let Some(p) = &self.string {
+            return p.values.sections;
+        }
         self.scene().config.event_indicators()
     }
 
     /// The time of the continuous states (`fmi2SetTime`, `fmi3SetTime`).
     pub fn set_time(&mut self, t: f64) -> Answer {
+        if self.string.is_some() {
+            return self.string_set_time(t);
+        }
         self.simulator("Model Exchange")?.set_time(t).map_err(|_| {
             Refusal::error(format!(
                 "time = {}: must be finite and within {} averaging windows of the start time",
@@ -101,6 +110,9 @@ impl Instance {
     /// The continuous states (`fmi2SetContinuousStates`): every value is checked before any is
     /// written.
     pub fn set_continuous_states(&mut self, x: &[f64]) -> Answer {
+        if self.string.is_some() {
+            return self.string_set_states(x);
+        }
         self.check_states_len("nx", x.len())?;
         let mut all = self.simulator("Model Exchange")?.states();
         for (id, value) in self.states.iter().zip(x) {
@@ -143,21 +155,33 @@ impl Instance {
 
     /// `fmi2GetContinuousStates`.
     pub fn get_continuous_states(&mut self, call: Call, out: &mut [f64]) -> Answer {
+        if self.string.is_some() {
+            return self.string_get_states(call, out);
+        }
         self.state_values(call, out, false, |s| s.states())
     }
 
     /// `fmi2GetDerivatives`.
     pub fn get_derivatives(&mut self, call: Call, out: &mut [f64]) -> Answer {
+        if self.string.is_some() {
+            return self.string_get_derivatives(call, out);
+        }
         self.state_values(call, out, true, |s| s.derivatives())
     }
 
     /// `fmi2GetNominalsOfContinuousStates`.
     pub fn get_nominals(&mut self, call: Call, out: &mut [f64]) -> Answer {
+        if self.string.is_some() {
+            return self.string_get_nominals(call, out);
+        }
         self.state_values(call, out, false, |s| s.nominals())
     }
 
     /// `fmi2GetEventIndicators`.
     pub fn get_event_indicators(&mut self, call: Call, out: &mut [f64]) -> Answer {
+        if self.string.is_some() {
+            return self.string_get_event_indicators(call, out);
+        }
         let n = self.scene().config.event_indicators();
         if out.len() != n {
             return Err(Refusal::error(format!(
@@ -185,10 +209,14 @@ impl Instance {
     /// The event update at the current time (`fmi2NewDiscreteStates`,
     /// `fmi3UpdateDiscreteStates`).
     pub fn update_events(&mut self, call: Call) -> Answer<EventInfo> {
-        let u = self.simulator("Model Exchange")?.update_events();
-        let info = EventInfo {
-            values_of_continuous_states_changed: u.states_changed || self.st.states_changed,
-            next_event_time: u.next_time,
+        let info = if self.string.is_some() {
+            self.string_update_events()?
+        } else {
+            let u = self.simulator("Model Exchange")?.update_events();
+            EventInfo {
+                values_of_continuous_states_changed: u.states_changed || self.st.states_changed,
+                next_event_time: u.next_time,
+            }
         };
         self.st.states_changed = false;
         self.event(|| {
@@ -211,9 +239,11 @@ impl Instance {
 
     /// `dv_unknown = J·dv_known` with `J` the partial derivatives of the unknowns (derivatives,
     /// outputs) with respect to the knowns (states, inputs), in closed form. A Co-Simulation
-    /// instance has none.
+    /// instance has none. A string's are by value reference of its version (`call`): FMI 3.0's
+    /// arrays take one seed and give one sensitivity per element.
     pub fn get_directional_derivative(
         &mut self,
+        call: Call,
         unknowns: &[u32],
         knowns: &[u32],
         dv_known: &[f64],
@@ -223,6 +253,19 @@ impl Instance {
             return Err(Refusal::error(
                 "not supported in Co-Simulation (providesDirectionalDerivative = false there); instantiate the FMU for Model Exchange for the Jacobians",
             ));
+        }
+        if self.string.is_some() {
+            return self
+                .string_directional_derivative(call, unknowns, knowns, dv_known, dv_unknown);
+        }
+        if knowns.len() != dv_known.len() || unknowns.len() != dv_unknown.len() {
+            return Err(Refusal::error(format!(
+                "nSeed = {}, nSensitivity = {}: must equal nKnowns = {} and nUnknowns = {} (every variable is a scalar)",
+                dv_known.len(),
+                dv_unknown.len(),
+                knowns.len(),
+                unknowns.len()
+            )));
         }
         let config = self.scene().config;
         let mut dx = [0.0; StateId::COUNT];

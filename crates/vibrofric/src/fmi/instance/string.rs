@@ -13,9 +13,11 @@ use crate::description::scene::Scene;
 use crate::fmi::refusal::{Answer, Refusal};
 use crate::fmi::saved::StringSaved;
 use crate::fmi::staging::Staged;
-use crate::fmi::state::{Call, State};
+use crate::fmi::state::{Call, Interface, State};
 use crate::fmi::status::Status;
-use crate::model::string::{build_string, StringConfig, StringInput, StringOutputs};
+use crate::model::string::{
+    build_string, build_string_exchange, StringConfig, StringInput, StringOutputs,
+};
 use crate::model::string::{StringParams, StringSimulator};
 use crate::model::{self, SimError};
 use crate::table::{number, Role, StringValues, StringVar, ARRAY_STRIDE};
@@ -55,7 +57,7 @@ impl StringPart {
 /// One variable of a get or set: a shared law parameter (by its row), or elements of a string
 /// variable (`from..to`).
 #[derive(Clone, Copy)]
-enum Target {
+pub(super) enum Target {
     Shared(crate::table::ParamId),
     Time,
     Elements(StringVar, usize, usize),
@@ -73,7 +75,7 @@ fn input_of(var: StringVar, i: usize) -> StringInput {
 }
 
 /// The values of an output variable.
-fn output_values(o: &StringOutputs, var: StringVar) -> &[f64] {
+pub(super) fn output_values(o: &StringOutputs, var: StringVar) -> &[f64] {
     match var {
         StringVar::FFx => &o.f_fx,
         StringVar::X => &o.x,
@@ -85,6 +87,35 @@ fn output_values(o: &StringOutputs, var: StringVar) -> &[f64] {
         StringVar::FBottom => std::slice::from_ref(&o.f_bottom),
         StringVar::FTopStep => std::slice::from_ref(&o.f_top_step),
         _ => std::slice::from_ref(&o.f_bottom_step),
+    }
+}
+
+/// Model Exchange's local variables of a string now: the states, their derivatives, the event
+/// indicators.
+struct Locals {
+    states: Vec<f64>,
+    derivatives: Vec<f64>,
+    indicators: Vec<f64>,
+}
+
+impl Locals {
+    fn of(sim: &dyn StringSimulator) -> Locals {
+        Locals {
+            states: sim.exchange_states(),
+            derivatives: sim.exchange_derivatives(),
+            indicators: sim.event_indicators(),
+        }
+    }
+
+    /// The values of a local variable of a string of `n` sections.
+    fn values(&self, var: StringVar, n: usize) -> &[f64] {
+        let from = var.state_index(n, 0).unwrap_or(0);
+        let len = var.len(n);
+        match var {
+            StringVar::EventVrx => &self.indicators,
+            _ if var.derivative_of().is_some() => &self.derivatives[from..from + len],
+            _ => &self.states[from..from + len],
+        }
     }
 }
 
@@ -102,11 +133,12 @@ impl Instance {
     /// it.
     pub(super) fn build_string_sim(&self) -> Result<Box<dyn StringSimulator>, SimError> {
         let part = self.part();
-        build(&self.scene, &self.st, &part.values, &part.derivs)
+        let exchange = self.interface == Interface::ModelExchange;
+        build(&self.scene, &self.st, &part.values, &part.derivs, exchange)
     }
 
     /// What `vr` names in a string scene, and how many values it takes.
-    fn target(&self, time_vr: Option<u32>, vr: u32) -> Answer<Target> {
+    pub(super) fn target(&self, time_vr: Option<u32>, vr: u32) -> Answer<Target> {
         if time_vr == Some(vr) {
             return Ok(Target::Time);
         }
@@ -163,9 +195,9 @@ impl Instance {
     pub(super) fn string_get(&mut self, call: Call, vrs: &[u32], values: &mut [f64]) -> Answer {
         let targets = self.targets(call, vrs, values.len())?;
         let c = self.scene.config;
-        let asks_outputs = targets
-            .iter()
-            .any(|t| matches!(t, Target::Elements(v, ..) if v.role(&c) == Role::Output));
+        let asks_outputs = targets.iter().any(
+            |t| matches!(t, Target::Elements(v, ..) if matches!(v.role(&c), Role::Output | Role::Local)),
+        );
         let outputs = if asks_outputs {
             let built;
             let sim = match &self.part().sim {
@@ -175,7 +207,7 @@ impl Instance {
                     &built
                 }
             };
-            Some(sim.outputs())
+            Some((sim.outputs(), Locals::of(sim.as_ref())))
         } else {
             None
         };
@@ -194,7 +226,8 @@ impl Instance {
                 }
                 Target::Elements(var, from, to) => {
                     let src = match (var.role(&c), &outputs) {
-                        (Role::Output, Some(o)) => output_values(o, var),
+                        (Role::Output, Some((o, _))) => output_values(o, var),
+                        (Role::Local, Some((_, l))) => l.values(var, part.values.sections),
                         _ => part.values.get(var),
                     };
                     values[k..k + to - from].copy_from_slice(&src[from..to]);
@@ -243,6 +276,12 @@ impl Instance {
                 }
                 Target::Elements(var, from, to) => {
                     let role = var.role(&c);
+                    if role == Role::Local {
+                        return Err(Refusal::error(format!(
+                            "{} (vr {vr}) has causality local: a continuous state of Model Exchange (set by the integrator's SetContinuousStates), its derivative or an event indicator, computed by the FMU",
+                            var.name()
+                        )));
+                    }
                     if role == Role::Output {
                         return Err(Refusal::error(format!(
                             "{} (vr {vr}) has causality output: it is computed by the FMU and cannot be set",
@@ -382,8 +421,9 @@ impl Instance {
         let sim = match &s.sim {
             None => None,
             Some(data) => {
-                let mut sim =
-                    build(&self.scene, staged, &s.values, &derivs).map_err(Refusal::error)?;
+                let exchange = self.interface == Interface::ModelExchange;
+                let mut sim = build(&self.scene, staged, &s.values, &derivs, exchange)
+                    .map_err(Refusal::error)?;
                 sim.restore(data).map_err(Refusal::error)?;
                 Some(sim)
             }
@@ -396,8 +436,8 @@ impl Instance {
     }
 }
 
-/// A string's simulator from its scene, the staged shared parameters, start time and tolerance,
-/// and its values: the parameters (the load of each section at the scene's `F_N`, where the
+/// A string's simulator (for Model Exchange where `exchange`) from its scene, the staged shared
+/// parameters, start time and tolerance, and its values: the parameters (the load of each section at the scene's `F_N`, where the
 /// normal force is an input: the load at which `F_S` and `zeta_t` are given), then the inputs
 /// as set, then the input derivatives.
 fn build(
@@ -405,6 +445,7 @@ fn build(
     st: &Staged,
     v: &StringValues,
     derivs: &[(StringVar, usize, f64)],
+    exchange: bool,
 ) -> Result<Box<dyn StringSimulator>, SimError> {
     let c = &scene.config;
     let f_n = match (&scene.string, c.normal_input) {
@@ -417,7 +458,11 @@ fn build(
         harmonic: c.harmonic,
         normal_input: c.normal_input,
     };
-    let mut sim = build_string(config, params, st.start_time, st.tolerance())?;
+    let mut sim = if exchange {
+        build_string_exchange(config, params, st.start_time, st.tolerance())?
+    } else {
+        build_string(config, params, st.start_time, st.tolerance())?
+    };
     let n = v.sections;
     for var in StringVar::ALL {
         if !(var.present(c, n) && var.role(c) == Role::Input) {

@@ -16,7 +16,7 @@
 //! neighbours, so the Jacobian is banded (4 sub-, 3 super-diagonals) and the stiff integrator's
 //! work is linear in `N` ([`crate::solver::band`]).
 
-use crate::physics::{FrictionLaw, Harmonic, InputTrack};
+use crate::physics::{FrictionLaw, Harmonic, InputTrack, LawJacobian};
 use crate::solver::band::{Band, BandSystem};
 use crate::table::Params;
 
@@ -181,6 +181,17 @@ impl<L: FrictionLaw> StringModel<L> {
         law.rate_force_at(s, vr, &law.velocity_terms(vr))
     }
 
+    /// Section `i`'s law at `t`, its relative velocity `v_r`, deformation rate and the law's
+    /// partial derivatives there (velocity `v`, deformation `s`).
+    #[inline(always)]
+    pub fn partials(&self, i: usize, t: f64, v: f64, s: f64) -> (L, f64, f64, LawJacobian) {
+        let law = self.law(i, t);
+        let vr = v - self.support(i, t);
+        let ds = law.rate(s, vr);
+        let lj = law.jacobian(s, vr, ds);
+        (law, vr, ds, lj)
+    }
+
     /// The force in link `i` (between sections `i` and `i + 1`, 0-based), tension positive.
     #[inline(always)]
     pub fn link(&self, i: usize, y: &[f64]) -> f64 {
@@ -251,11 +262,7 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
         let l = &self.links;
         for i in 0..n {
             let k = PER_SECTION * i;
-            let (v, s) = (y[k + 1], y[k + 2]);
-            let law = self.law(i, t);
-            let vr = v - self.support(i, t);
-            let ds = law.rate(s, vr);
-            let lj = law.jacobian(s, vr, ds);
+            let (_, _, _, lj) = self.partials(i, t, y[k + 1], y[k + 2]);
             let inv_m = self.sections[i].inv_m;
             // Stiffness and damping that hold section i to its neighbours and ends.
             let (mut k_sum, mut c_sum) = (0.0, 0.0);

@@ -12,15 +12,18 @@
 //! - `refine.rs`: a section integrated again alone;
 //! - `single.rs`: one section with free ends, which is the single contact and is simulated as
 //!   it (bit for bit the scene without `[string]`);
+//! - `exchange.rs`: the string for an importer's integrator (Model Exchange);
 //! - this file: parameters and their rules, inputs, stepping to communication points with the
 //!   step means of the friction and end forces (the collocation quadrature of each accepted
 //!   step), outputs.
 
 mod equations;
+mod exchange;
 mod refine;
 mod single;
 
 pub use equations::{Links, Section, StringInputs, StringModel, PER_SECTION};
+pub use exchange::{state_name, InputDirection, StringExchange};
 
 use crate::physics::{Dahl, Dupont, FrictionLaw, Harmonic, InputTrack, LuGre};
 use crate::solver::band::{Accepted, BandRadau, BandSystem, BandWork};
@@ -278,7 +281,7 @@ pub struct StringOutputs {
 
 /// A string of contacts that can be stepped in time; a method that returns an error leaves it
 /// as it was.
-pub trait StringSimulator: Send {
+pub trait StringSimulator: StringExchange + Send {
     fn sections(&self) -> usize;
     fn time(&self) -> f64;
     fn tolerance(&self) -> f64;
@@ -303,6 +306,10 @@ pub trait StringSimulator: Send {
     fn save(&self) -> Vec<f64>;
     /// Restores what [`StringSimulator::save`] wrote; an error leaves the string as it was.
     fn restore(&mut self, data: &[f64]) -> Result<(), SimError>;
+    /// Puts the string at time `t` with the sections' states `y` (`[x, v, s]` per section),
+    /// its input tracks as they are: a string that stands beside another simulator of the same
+    /// sections (`single.rs`) and answers for it what only a string knows.
+    fn place(&mut self, t: f64, y: &[f64]) -> Result<(), SimError>;
 }
 
 /// Builds a string at rest at the origin (zero deformation, zero inputs, the load inputs at the
@@ -327,15 +334,42 @@ pub fn build_string(
     }
     let tol = tolerance.clamp(TOLERANCE_RANGE.0, TOLERANCE_RANGE.1);
     if single::applies(&params) {
+        let shadow = build_band(config, params.clone(), t_start, tol);
         return Ok(Box::new(single::Single::new(
-            config, &params, t_start, tol,
+            config, &params, t_start, tol, shadow,
         )?));
     }
-    Ok(match config.law {
+    Ok(build_band(config, params, t_start, tol))
+}
+
+/// Builds a string for an importer's integrator (Model Exchange): as [`build_string`], but a
+/// single free section too is the string's equations (its states are the string's).
+pub fn build_string_exchange(
+    config: StringConfig,
+    params: StringParams,
+    t_start: f64,
+    tolerance: f64,
+) -> Result<Box<dyn StringSimulator>, SimError> {
+    let mut sim = build_string(config, params.clone(), t_start, tolerance)?;
+    if single::applies(&params) {
+        sim = build_band(config, params, t_start, sim.tolerance());
+    }
+    sim.set_exchange();
+    Ok(sim)
+}
+
+/// The string on its band integrator, of its law.
+fn build_band(
+    config: StringConfig,
+    params: StringParams,
+    t_start: f64,
+    tol: f64,
+) -> Box<dyn StringSimulator> {
+    match config.law {
         Law::Dahl => Box::new(StringSim::<Dahl>::new(config, params, t_start, tol)),
         Law::Dupont => Box::new(StringSim::<Dupont>::new(config, params, t_start, tol)),
         Law::LuGre => Box::new(StringSim::<LuGre>::new(config, params, t_start, tol)),
-    })
+    }
 }
 
 /// The string simulator of one law.
@@ -357,6 +391,10 @@ struct StringSim<L> {
     work3: Workspace,
     /// Scratch: the string's error scale at a step's start.
     scratch: Vec<f64>,
+    /// Model Exchange: the step means are the instantaneous forces.
+    exchange: bool,
+    /// Model Exchange: each section's side of its event indicator (0 before the first event).
+    sides: Vec<f64>,
 }
 
 impl<L: FrictionLaw> StringSim<L> {
@@ -395,6 +433,8 @@ impl<L: FrictionLaw> StringSim<L> {
             refined: SolverStats::default(),
             work3: Workspace::new(PER_SECTION),
             scratch: vec![0.0; PER_SECTION * n],
+            exchange: false,
+            sides: vec![0.0; n],
         };
         let zero = vec![0.0; PER_SECTION * n];
         sim.model.error_scale(&zero, &mut sim.nominal);
@@ -636,19 +676,20 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
         let n = self.model.n();
         let y = &self.radau.y;
         let now = self.instantaneous();
+        let means = if self.exchange { &now } else { &self.means };
         StringOutputs {
             x: (0..n).map(|i| y[PER_SECTION * i]).collect(),
             v_x: (0..n).map(|i| y[PER_SECTION * i + 1]).collect(),
             s_x: (0..n).map(|i| y[PER_SECTION * i + 2]).collect(),
             f_fx: now[..n].to_vec(),
-            f_fx_step: self.means[..n].to_vec(),
+            f_fx_step: means[..n].to_vec(),
             f_link: (0..n.saturating_sub(1))
                 .map(|i| self.model.link(i, y))
                 .collect(),
             f_top: now[n],
             f_bottom: now[n + 1],
-            f_top_step: self.means[n],
-            f_bottom_step: self.means[n + 1],
+            f_top_step: means[n],
+            f_bottom_step: means[n + 1],
         }
     }
 
@@ -682,7 +723,7 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
             out.extend_from_slice(&[tr.t_ref, tr.value, tr.slope]);
         }
         out.extend_from_slice(&[inp.x_top_ref, inp.x_bottom_ref]);
-        out.extend(self.integrals.iter().chain(&self.means));
+        out.extend(self.integrals.iter().chain(&self.means).chain(&self.sides));
         out
     }
 
@@ -692,7 +733,7 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
         let dim = PER_SECTION * n;
         let radau_len = BandRadau::saved_len(dim);
         let tracks = 2 * n + self.model.inputs.f_n.len() + 2;
-        if data.len() != radau_len + 3 * tracks + 2 + 2 * (n + 2) {
+        if data.len() != radau_len + 3 * tracks + 2 + 2 * (n + 2) + n {
             return Err(bad("has the wrong length for this string"));
         }
         if data.iter().any(|x| !x.is_finite()) {
@@ -719,10 +760,32 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
         let rest = &data[radau_len + 3 * tracks..];
         inputs.x_top_ref = rest[0];
         inputs.x_bottom_ref = rest[1];
+        let sides = &rest[2 + 2 * (n + 2)..];
+        if sides.iter().any(|x| ![-1.0, 0.0, 1.0].contains(x)) {
+            return Err(bad(
+                "holds an event indicator's side that is not -1, 0 or 1",
+            ));
+        }
+        self.sides = sides.to_vec();
         self.integrals = rest[2..2 + n + 2].to_vec();
-        self.means = rest[2 + n + 2..].to_vec();
+        self.means = rest[2 + n + 2..2 + 2 * (n + 2)].to_vec();
         self.model.inputs = inputs;
         self.radau = radau;
+        Ok(())
+    }
+
+    fn place(&mut self, t: f64, y: &[f64]) -> Result<(), SimError> {
+        if y.len() != self.radau.y.len() || !t.is_finite() || y.iter().any(|v| !v.is_finite()) {
+            return Err(SimError::Inconsistent(format!(
+                "a string of {} sections placed at t = {} with {} finite states",
+                self.model.n(),
+                number(t),
+                y.iter().filter(|v| v.is_finite()).count()
+            )));
+        }
+        self.radau.t = t;
+        self.radau.y.copy_from_slice(y);
+        self.radau.restart();
         Ok(())
     }
 }

@@ -6,6 +6,7 @@
 //! so the choice never changes during a run; a state restores into a string built from the
 //! same parameters, hence of the same kind.
 
+use super::exchange::{InputDirection, StringExchange};
 use super::{StringConfig, StringInput, StringOutputs, StringParams, StringSimulator};
 use crate::model::{ContactState, Setup, SimError, Simulator, StepStats};
 use crate::table::{Config, Drive, InputId, Inputs, Lateral, Motion};
@@ -24,6 +25,11 @@ pub(super) fn applies(p: &StringParams) -> bool {
 pub(super) struct Single {
     sim: Box<dyn Simulator>,
     normal_input: bool,
+    /// The same section as a string (never stepped, its input tracks the same): placed at the
+    /// contact's state, it gives what only a string has, the Model Exchange variables that a
+    /// Co-Simulation instance reads too (states, derivatives, event indicators, directional
+    /// derivatives) and the ends' points `x_top`, `x_bottom`.
+    shadow: Box<dyn StringSimulator>,
 }
 
 impl Clone for Single {
@@ -31,6 +37,7 @@ impl Clone for Single {
         Single {
             sim: self.sim.clone_box(),
             normal_input: self.normal_input,
+            shadow: self.shadow.clone_box(),
         }
     }
 }
@@ -43,6 +50,7 @@ impl Single {
         params: &StringParams,
         t_start: f64,
         tolerance: f64,
+        shadow: Box<dyn StringSimulator>,
     ) -> Result<Single, SimError> {
         let c = Config {
             law: config.law,
@@ -66,7 +74,23 @@ impl Single {
         Ok(Single {
             sim,
             normal_input: config.normal_input,
+            shadow,
         })
+    }
+
+    /// The contact's time and state `[x, v, s]`.
+    fn state(&self) -> (f64, [f64; 3]) {
+        let o = self.sim.outputs();
+        (self.sim.time(), [o.x, o.v_x, o.s_x])
+    }
+
+    /// The shadow string placed at the contact's time and state.
+    fn placed(&self) -> Box<dyn StringSimulator> {
+        let mut s = self.shadow.clone_box();
+        let (t, y) = self.state();
+        // A contact's state is finite: placing it cannot fail.
+        let _ = s.place(t, &y);
+        s
     }
 
     /// The single contact's input, `None` for an end's velocity (which moves nothing: the ends
@@ -97,16 +121,19 @@ fn pack(bytes: &[u8]) -> Vec<f64> {
 }
 
 /// What [`pack`] wrote, or `None`.
-fn unpack(data: &[f64]) -> Option<Vec<u8>> {
+/// The bytes packed at the start of `data`, and how many numbers they took.
+fn unpack(data: &[f64]) -> Option<(Vec<u8>, usize)> {
     let (&mark, rest) = data.split_first()?;
     let (&len, words) = rest.split_first()?;
     if mark != MARK || len.fract() != 0.0 || !(0.0..=1e9).contains(&len) {
         return None;
     }
     let len = len as usize;
-    if words.len() != len.div_ceil(4) {
+    let used = len.div_ceil(4);
+    if words.len() < used {
         return None;
     }
+    let words = &words[..used];
     let mut bytes = Vec::with_capacity(4 * words.len());
     for &w in words {
         if !(w.fract() == 0.0 && (0.0..=u32::MAX as f64).contains(&w)) {
@@ -115,7 +142,7 @@ fn unpack(data: &[f64]) -> Option<Vec<u8>> {
         bytes.extend_from_slice(&(w as u32).to_le_bytes());
     }
     bytes.truncate(len);
-    Some(bytes)
+    Some((bytes, 2 + used))
 }
 
 impl StringSimulator for Single {
@@ -133,18 +160,28 @@ impl StringSimulator for Single {
 
     fn set_input(&mut self, input: StringInput, value: f64) -> Result<(), SimError> {
         input.check(value)?;
-        match self.input(input)? {
-            Some(id) => self.sim.set_input(id, value),
-            None => Ok(()),
+        let (t, y) = self.state();
+        let mut shadow = self.shadow.clone_box();
+        shadow.place(t, &y)?;
+        shadow.set_input(input, value)?;
+        if let Some(id) = self.input(input)? {
+            self.sim.set_input(id, value)?;
         }
+        self.shadow = shadow;
+        Ok(())
     }
 
     fn set_input_derivative(&mut self, input: StringInput, value: f64) -> Result<(), SimError> {
         input.check_derivative(value)?;
-        match self.input(input)? {
-            Some(id) => self.sim.set_input_derivative(id, value),
-            None => Ok(()),
+        let (t, y) = self.state();
+        let mut shadow = self.shadow.clone_box();
+        shadow.place(t, &y)?;
+        shadow.set_input_derivative(input, value)?;
+        if let Some(id) = self.input(input)? {
+            self.sim.set_input_derivative(id, value)?;
         }
+        self.shadow = shadow;
+        Ok(())
     }
 
     fn step_to(&mut self, t_end: f64) -> Result<(), SimError> {
@@ -178,17 +215,78 @@ impl StringSimulator for Single {
 
     fn save(&self) -> Vec<f64> {
         // A struct of numbers, options and vectors always serializes.
-        pack(&postcard::to_allocvec(&self.sim.snapshot()).unwrap_or_default())
+        let mut out = pack(&postcard::to_allocvec(&self.sim.snapshot()).unwrap_or_default());
+        out.extend(self.shadow.save());
+        out
     }
 
     fn restore(&mut self, data: &[f64]) -> Result<(), SimError> {
         let bad = |why: &str| SimError::Inconsistent(format!("the saved string state {why}"));
-        let bytes = unpack(data).ok_or_else(|| bad("is not one of a single free section"))?;
+        let (bytes, used) =
+            unpack(data).ok_or_else(|| bad("is not one of a single free section"))?;
         let state: ContactState =
             postcard::from_bytes(&bytes).map_err(|e| bad(&format!("does not read: {e}")))?;
+        let mut shadow = self.shadow.clone_box();
+        shadow.restore(&data[used..])?;
         // The contact checks every field; on error nothing changes.
-        self.sim.restore(&state)
+        self.sim.restore(&state)?;
+        self.shadow = shadow;
+        Ok(())
     }
+
+    fn place(&mut self, _t: f64, _y: &[f64]) -> Result<(), SimError> {
+        Err(SimError::Inconsistent(
+            "a single free section simulated as the single contact is not placed".into(),
+        ))
+    }
+}
+
+/// What only a string knows, from the shadow string at the contact's state. A single free
+/// section is built for Co-Simulation only (Model Exchange builds the string's equations,
+/// [`super::build_string_exchange`]): the calls that set Model Exchange's states, time or
+/// events refuse.
+impl StringExchange for Single {
+    fn set_exchange(&mut self) {}
+
+    fn exchange_states(&self) -> Vec<f64> {
+        self.placed().exchange_states()
+    }
+
+    fn set_exchange_states(&mut self, _x: &[f64]) -> Result<(), SimError> {
+        Err(co_simulation_only())
+    }
+
+    fn set_exchange_time(&mut self, _t: f64) -> Result<(), SimError> {
+        Err(co_simulation_only())
+    }
+
+    fn exchange_derivatives(&self) -> Vec<f64> {
+        self.placed().exchange_derivatives()
+    }
+
+    fn exchange_nominals(&self) -> Vec<f64> {
+        self.shadow.exchange_nominals()
+    }
+
+    fn event_indicators(&self) -> Vec<f64> {
+        self.placed().event_indicators()
+    }
+
+    fn update_events(&mut self) {}
+
+    fn out_of_domain(&self) -> Option<String> {
+        None
+    }
+
+    fn tangent(&self, dx: &[f64], du: &InputDirection) -> (Vec<f64>, StringOutputs) {
+        self.placed().tangent(dx, du)
+    }
+}
+
+fn co_simulation_only() -> SimError {
+    SimError::Inconsistent(
+        "a single free section in Co-Simulation has no Model Exchange states to set".into(),
+    )
 }
 
 #[cfg(test)]
@@ -201,7 +299,7 @@ mod tests {
             let bytes: Vec<u8> = (0..n).map(|k| (k * 37 % 256) as u8).collect();
             let data = pack(&bytes);
             assert!(data.iter().all(|x| x.is_finite()));
-            assert_eq!(unpack(&data), Some(bytes));
+            assert_eq!(unpack(&data), Some((bytes, data.len())));
         }
         let data = pack(&[1, 2, 3, 4, 5]);
         assert_eq!(unpack(&data[..2]), None);

@@ -287,11 +287,9 @@ pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
     nSensitivity: usize,
 ) -> fmi3Status {
     const F: Function = Function::GetDirectionalDerivative;
-    call(instance, F, |inst, _| {
-        // Every variable is a scalar: one seed per known, one sensitivity per unknown.
-        if nSeed != nKnowns || nSensitivity != nUnknowns {
-            return Err(Refusal::error(format!("nSeed = {nSeed}, nSensitivity = {nSensitivity}: must equal nKnowns = {nKnowns} and nUnknowns = {nUnknowns} (every variable is a scalar)")));
-        }
+    call(instance, F, |inst, call| {
+        // One seed per element of the knowns, one sensitivity per element of the unknowns
+        // (checked by the instance: every variable of a single contact is a scalar).
         let Some(unknowns) = array(unknowns, nUnknowns) else {
             return Err(Refusal::null("unknowns", nUnknowns));
         };
@@ -304,7 +302,7 @@ pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
         let Some(sensitivity) = array_mut(sensitivity, nSensitivity) else {
             return Err(Refusal::null("sensitivity", nSensitivity));
         };
-        inst.get_directional_derivative(unknowns, knowns, seed, sensitivity)
+        inst.get_directional_derivative(call, unknowns, knowns, seed, sensitivity)
     })
 }
 
