@@ -682,7 +682,7 @@ fn by_series(
     }
     let series = Series::new(&p, nodes.big, &start);
     let end = series.at(nodes.big);
-    let at_nodes = series.at_each(&nodes.lam);
+    let at_nodes = series.at_each(nodes.lam);
     let mut s = [0.0; 2];
     let mut err: f64 = 0.0;
     for i in 0..dim {
@@ -728,7 +728,7 @@ fn by_phis(
             p[2 * i + 1] = fits[i].1;
         }
         let series = Series::new(&p, big, &[0.0; LANES]);
-        (series.at(big), series.at_each(&nodes.lam))
+        (series.at(big), series.at_each(nodes.lam))
     });
     for i in 0..dim {
         let (p, extra) = &fits[i];
