@@ -422,6 +422,8 @@ impl ExpIntegrator {
     /// the natural magnitude of `s` (absolute tolerance `tol·scale_s`), `scale_f` that of the
     /// observable, `h_max` the longest step.
     #[allow(clippy::too_many_arguments)]
+    // With `step` inlined here; inlined into its caller it took 6 % more instructions.
+    #[inline(never)]
     pub fn integrate(
         &mut self,
         sys: &impl Relaxing,
@@ -481,7 +483,52 @@ impl ExpIntegrator {
     }
 }
 
-/// One step of length `h` from `(t, s0)`; `ends` are the system at `t` and `t + h`.
+/// The system at a step's Gauss nodes (`c` of the observable) and `λ`, as [`step`] computed them.
+struct Nodes<'a> {
+    h: f64,
+    samples: &'a [Sample; N],
+    /// The rate `a` at the nodes, and its interpolant's coefficients in the step's fraction `x`.
+    a: &'a [f64; N],
+    alpha: &'a [f64; N],
+    /// `λ` at the nodes, and `Λ` over the whole step.
+    lam: &'a [f64; N],
+    big: f64,
+    c: &'a [f64; N],
+}
+
+impl Nodes<'_> {
+    /// `λ` at the fraction `x` of the step.
+    fn lambda_at(&self, x: f64) -> f64 {
+        let p = powers(x);
+        self.h
+            * (0..N)
+                .map(|m| self.alpha[m] * p[m + 1] * RECIP[m])
+                .sum::<f64>()
+    }
+}
+
+/// What a step's error is measured against.
+struct Tolerance {
+    rtol: f64,
+    scale_s: f64,
+    scale_f: f64,
+    h: f64,
+}
+
+impl Tolerance {
+    /// The error estimate in units of the tolerance, from the differences the interpolant through
+    /// both ends too makes to `s_end` (`d_end`) and to the observable's integral (`d_integral`).
+    #[inline(always)]
+    fn estimate(&self, s_end: f64, d_end: f64, d_integral: f64) -> f64 {
+        let e_s = d_end.abs() / (self.rtol * (self.scale_s + s_end.abs()));
+        let e_i = d_integral.abs() / (self.rtol * self.scale_f * self.h);
+        ESTIMATE_FACTOR * e_s.max(e_i)
+    }
+}
+
+/// One step of length `h` from `(t, s0)`; `ends` are the system at `t` and `t + h`. The system
+/// at the nodes ([`Nodes`]), the target interpolated in `μ = λ/Λ` ([`interpolate`]), then
+/// [`nearly_still`], [`by_series`] (`Λ ≤` [`SPLIT`]) or [`by_phis`] (beyond).
 #[allow(clippy::too_many_arguments)]
 fn step(
     sys: &impl Relaxing,
@@ -494,32 +541,32 @@ fn step(
     rtol: f64,
 ) -> StepOut {
     let dim = sys.dim();
-    let samples: [Sample; N] = std::array::from_fn(|j| sys.sample(t + h * X[j]));
+    // A loop: `array::from_fn`'s closure was left out of line here (more instructions).
+    let mut samples = [Sample::default(); N];
+    for (j, sample) in samples.iter_mut().enumerate() {
+        *sample = sys.sample(t + h * X[j]);
+    }
     let a: [f64; N] = std::array::from_fn(|j| samples[j].a);
     // a(x) = Σ alpha_m x^m; λ(x) = h·Σ alpha_m x^{m+1}/(m + 1), at the nodes h·Σ LAM[j][k]·a_k.
     let alpha: [f64; N] = std::array::from_fn(|m| (0..N).map(|k| VINV[m][k] * a[k]).sum());
-    let lambda_at = |x: f64| {
-        let p = powers(x);
-        h * (0..N).map(|m| alpha[m] * p[m + 1] * RECIP[m]).sum::<f64>()
-    };
     let lam: [f64; N] = std::array::from_fn(|j| h * (0..N).map(|k| LAM[j][k] * a[k]).sum::<f64>());
     let big = h * (0..N).map(|k| W[k] * a[k]).sum::<f64>();
     let smooth_d: [f64; 2] =
         std::array::from_fn(|i| h * (0..N).map(|k| W[k] * samples[k].d[i]).sum::<f64>());
     let c: [f64; N] = std::array::from_fn(|j| samples[j].c);
-    let mean_c = h * (0..N).map(|k| W[k] * c[k]).sum::<f64>();
     let evals = N as u64;
+    let nodes = Nodes {
+        h,
+        samples: &samples,
+        a: &a,
+        alpha: &alpha,
+        lam: &lam,
+        big,
+        c: &c,
+    };
 
     if big < NEGLIGIBLE {
-        // Next to no relaxation: s(x) = s0 + ∫_0^x a·(q − s0), to first order in Λ.
-        let mut s = s0;
-        for i in 0..dim {
-            s[i] += h
-                * (0..N)
-                    .map(|k| W[k] * a[k] * (samples[k].q[i] - s0[i]))
-                    .sum::<f64>();
-        }
-        let integral = std::array::from_fn(|i| mean_c * s0[i] + smooth_d[i]);
+        let (s, integral) = nearly_still(&nodes, dim, s0, &smooth_d);
         return StepOut {
             s,
             integral,
@@ -529,7 +576,7 @@ fn step(
         };
     }
     let inv_big = 1.0 / big;
-    let mu: [f64; N] = std::array::from_fn(|j| lam[j] * inv_big);
+    let mu: [f64; N] = std::array::from_fn(|j| nodes.lam[j] * inv_big);
     if !(mu.windows(2).all(|w| w[1] > w[0]) && mu[0] > 0.0 && mu[N - 1] < 1.0) {
         // The interpolant of a went negative between nodes: the step is too long.
         return StepOut {
@@ -540,137 +587,20 @@ fn step(
             evals,
         };
     }
-    // The nodes, then the step's ends.
-    let mu_all: [f64; D] = std::array::from_fn(|j| if j < N { mu[j] } else { (j - N) as f64 });
-    let inv = inverse_gaps(&mu_all);
-    let omega = node_polynomial(&mu_all);
-    let target = |i: usize| -> [f64; D] {
-        std::array::from_fn(|j| {
-            if j < N {
-                samples[j].q[i]
-            } else {
-                ends[j - N].q[i]
-            }
-        })
+    let mut fits = [([0.0; D], [0.0; D]); 2];
+    interpolate(&nodes, ends, &mu, dim, &mut fits);
+    let tol = Tolerance {
+        rtol,
+        scale_s,
+        scale_f,
+        h,
     };
-    // The error estimate: the difference the interpolant through both ends too makes to s at
-    // the end and to the observable's integral, each on its own scale.
-    let estimate = |s_end: f64, d_end: f64, d_integral: f64| {
-        let e_s = d_end.abs() / (rtol * (scale_s + s_end.abs()));
-        let e_i = d_integral.abs() / (rtol * scale_f * h);
-        ESTIMATE_FACTOR * e_s.max(e_i)
-    };
-    let mut s = [0.0; 2];
-    let mut err: f64 = 0.0;
     let mut integral = smooth_d;
-    if big <= SPLIT {
-        // e^{−λ} varies by at most e² over the step: s(λ) as its power series in λ (from
-        // ds/dλ = Q(λ) − s), at the end and at the nodes, and Gauss in time for the observable.
-        // Lanes 2i, 2i + 1: the interpolant of component i and the estimate's polynomial.
-        let mut p = [[0.0; D]; LANES];
-        let mut start = [0.0; LANES];
-        for i in 0..dim {
-            (p[2 * i], p[2 * i + 1]) = fit(&mu_all, &inv, &omega, &target(i));
-            start[2 * i] = s0[i];
-        }
-        let series = Series::new(&p, big, &start);
-        let end = series.at(big);
-        let nodes = series.at_each(&lam);
-        for i in 0..dim {
-            s[i] = end[2 * i];
-            let (mut sum, mut diff) = (0.0, 0.0);
-            for j in 0..N {
-                sum += W[j] * c[j] * nodes[j][2 * i];
-                diff += W[j] * c[j] * nodes[j][2 * i + 1];
-            }
-            integral[i] += h * sum;
-            err = err.max(estimate(s[i], end[2 * i + 1], h * diff));
-        }
+    let (s, err) = if big <= SPLIT {
+        by_series(&nodes, &fits, s0, dim, &tol, &mut integral)
     } else {
-        let phi_end = phis(big);
-        let decay_end = libm::exp(-big);
-        let mut transient = [0.0; 2];
-        let c_max = c.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        // ∫ e^{−λ} dt ≤ min(h, 1/a(0)).
-        let a0 = alpha[0].max(a[0]).max(f64::MIN_POSITIVE);
-        let layer_bound = h.min(1.0 / a0);
-        let fits: [([f64; D], [f64; D]); 2] = std::array::from_fn(|i| {
-            if i < dim {
-                fit(&mu_all, &inv, &omega, &target(i))
-            } else {
-                ([0.0; D], [0.0; D])
-            }
-        });
-        // The estimate's solution: up to Λ = ESTIMATE_SERIES by its power series (where the
-        // particular solution below would cancel against its transient), beyond by that split.
-        let estimate_series = (big <= ESTIMATE_SERIES).then(|| {
-            let mut p = [[0.0; D]; LANES];
-            for i in 0..dim {
-                p[2 * i + 1] = fits[i].1;
-            }
-            let series = Series::new(&p, big, &[0.0; LANES]);
-            (series.at(big), series.at_each(&lam))
-        });
-        for i in 0..dim {
-            let (p, extra) = &fits[i];
-            s[i] = decay_end * s0[i] + convolve(p, 1.0, big, &phi_end);
-            // s = P(μ) + e^{−λ}·(s0 − P(0)) with P = Σ_k (−1/Λ)^k Q^(k) the particular solution.
-            let pcoef = particular(p, big);
-            integral[i] += h
-                * (0..N)
-                    .map(|j| W[j] * c[j] * horner(&pcoef, mu[j]))
-                    .sum::<f64>();
-            transient[i] = s0[i] - pcoef[0];
-            let (d_end, d_integral) = match &estimate_series {
-                Some((end, nodes)) => (
-                    end[2 * i + 1],
-                    h * (0..N)
-                        .map(|j| W[j] * c[j] * nodes[j][2 * i + 1])
-                        .sum::<f64>(),
-                ),
-                None => {
-                    // Its particular solution by Gauss, its transient (no longer amplified
-                    // by 1/Λ^k) bounded.
-                    let pe = particular(extra, big);
-                    let gauss = (0..N)
-                        .map(|j| W[j] * c[j] * horner(&pe, mu[j]))
-                        .sum::<f64>();
-                    (
-                        convolve(extra, 1.0, big, &phi_end),
-                        (h * gauss).abs() + pe[0].abs() * c_max * layer_bound,
-                    )
-                }
-            };
-            err = err.max(estimate(s[i], d_end, d_integral));
-        }
-        // The decaying transient of every component shares `∫ c·e^{−λ} dt`.
-        let transient_max = transient[0].abs().max(transient[1].abs());
-        let mut layer = 0.0;
-        // Skip the layer where it cannot matter.
-        if transient_max * c_max * layer_bound > 1e-3 * rtol * scale_f * h {
-            // ∫ c(t)·e^{−λ(t)} dt on panels doubling from the relaxation time 1/a(0).
-            let gamma: [f64; N] = std::array::from_fn(|m| (0..N).map(|k| VINV[m][k] * c[k]).sum());
-            let mut f = |x: f64| horner(&gamma, x) * libm::exp(-lambda_at(x));
-            let budget = 1e-3 * rtol * scale_f / transient_max;
-            let x_b = (1.0 / (h * a0)).clamp(1e-12, 1.0);
-            let phi_cut = libm::log(1.0 / (1e-3 * rtol)) + 3.0;
-            let (mut lo, mut width) = (0.0, x_b);
-            let mut j = Integral::default();
-            loop {
-                let hi = (lo + width).min(1.0);
-                j += adaptive(&mut f, lo, hi, budget * (hi - lo));
-                if hi >= 1.0 || lambda_at(hi) > phi_cut {
-                    break;
-                }
-                lo = hi;
-                width *= 2.0;
-            }
-            layer = h * j.value;
-        }
-        for i in 0..dim {
-            integral[i] += transient[i] * layer;
-        }
-    }
+        by_phis(&nodes, &fits, &mu, s0, dim, &tol, &mut integral)
+    };
     StepOut {
         s,
         integral,
@@ -678,6 +608,194 @@ fn step(
         err,
         evals,
     }
+}
+
+/// A step with next to no relaxation (`Λ` below [`NEGLIGIBLE`]): `s(x) = s0 + ∫_0^x a·(q − s0)`,
+/// to first order in `Λ`, and the observable's integral at `s0`.
+#[inline(always)]
+fn nearly_still(
+    nodes: &Nodes,
+    dim: usize,
+    s0: [f64; 2],
+    smooth_d: &[f64; 2],
+) -> ([f64; 2], [f64; 2]) {
+    let h = nodes.h;
+    let mut s = s0;
+    for i in 0..dim {
+        s[i] += h
+            * (0..N)
+                .map(|k| W[k] * nodes.a[k] * (nodes.samples[k].q[i] - s0[i]))
+                .sum::<f64>();
+    }
+    let mean_c = h * (0..N).map(|k| W[k] * nodes.c[k]).sum::<f64>();
+    let integral = std::array::from_fn(|i| mean_c * s0[i] + smooth_d[i]);
+    (s, integral)
+}
+
+/// Into `fits`, per component, the target's interpolant in `μ = λ/Λ` through the nodes and the
+/// difference the step's two ends make to it (the error estimate's polynomial; see [`fit`]).
+#[inline(always)]
+fn interpolate(
+    nodes: &Nodes,
+    ends: [&Sample; 2],
+    mu: &[f64; N],
+    dim: usize,
+    fits: &mut [([f64; D], [f64; D]); 2],
+) {
+    // The nodes, then the step's ends.
+    let mu_all: [f64; D] = std::array::from_fn(|j| if j < N { mu[j] } else { (j - N) as f64 });
+    let inv = inverse_gaps(&mu_all);
+    let omega = node_polynomial(&mu_all);
+    let target = |i: usize| -> [f64; D] {
+        std::array::from_fn(|j| {
+            if j < N {
+                nodes.samples[j].q[i]
+            } else {
+                ends[j - N].q[i]
+            }
+        })
+    };
+    for (i, f) in fits.iter_mut().enumerate().take(dim) {
+        *f = fit(&mu_all, &inv, &omega, &target(i));
+    }
+}
+
+/// `Λ ≤` [`SPLIT`] (`e^{−λ}` varies by at most e²): `s(λ)` by its power series from
+/// `ds/dλ = Q(λ) − s`, at the end and the nodes, the observable by Gauss in time (added to
+/// `integral`). Returns `s` at the end and the error estimate.
+#[inline(always)]
+fn by_series(
+    nodes: &Nodes,
+    fits: &[([f64; D], [f64; D]); 2],
+    s0: [f64; 2],
+    dim: usize,
+    tol: &Tolerance,
+    integral: &mut [f64; 2],
+) -> ([f64; 2], f64) {
+    let (h, c) = (nodes.h, &nodes.c);
+    // Lanes 2i, 2i + 1: the interpolant of component i and the estimate's polynomial.
+    let mut p = [[0.0; D]; LANES];
+    let mut start = [0.0; LANES];
+    for i in 0..dim {
+        (p[2 * i], p[2 * i + 1]) = fits[i];
+        start[2 * i] = s0[i];
+    }
+    let series = Series::new(&p, nodes.big, &start);
+    let end = series.at(nodes.big);
+    let at_nodes = series.at_each(nodes.lam);
+    let mut s = [0.0; 2];
+    let mut err: f64 = 0.0;
+    for i in 0..dim {
+        s[i] = end[2 * i];
+        let (mut sum, mut diff) = (0.0, 0.0);
+        for j in 0..N {
+            sum += W[j] * c[j] * at_nodes[j][2 * i];
+            diff += W[j] * c[j] * at_nodes[j][2 * i + 1];
+        }
+        integral[i] += h * sum;
+        err = err.max(tol.estimate(s[i], end[2 * i + 1], h * diff));
+    }
+    (s, err)
+}
+
+/// `Λ >` [`SPLIT`]: `s` at the end by the φ-functions, the observable's integral (added to
+/// `integral`) from the particular solution `P` by Gauss plus the transient `e^{−λ}·(s0 − P(0))`
+/// ([`transient_layer`]); the estimate's solution by its power series up to `Λ =`
+/// [`ESTIMATE_SERIES`], beyond by the same split. Returns `s` at the end and the error estimate.
+#[inline(always)]
+fn by_phis(
+    nodes: &Nodes,
+    fits: &[([f64; D], [f64; D]); 2],
+    mu: &[f64; N],
+    s0: [f64; 2],
+    dim: usize,
+    tol: &Tolerance,
+    integral: &mut [f64; 2],
+) -> ([f64; 2], f64) {
+    let (h, big, c) = (nodes.h, nodes.big, &nodes.c);
+    let phi_end = phis(big);
+    let decay_end = libm::exp(-big);
+    let mut s = [0.0; 2];
+    let mut err: f64 = 0.0;
+    let mut transient = [0.0; 2];
+    let c_max = c.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    // ∫ e^{−λ} dt ≤ min(h, 1/a(0)).
+    let a0 = nodes.alpha[0].max(nodes.a[0]).max(f64::MIN_POSITIVE);
+    let layer_bound = h.min(1.0 / a0);
+    let estimate_series = (big <= ESTIMATE_SERIES).then(|| {
+        let mut p = [[0.0; D]; LANES];
+        for i in 0..dim {
+            p[2 * i + 1] = fits[i].1;
+        }
+        let series = Series::new(&p, big, &[0.0; LANES]);
+        (series.at(big), series.at_each(nodes.lam))
+    });
+    for i in 0..dim {
+        let (p, extra) = &fits[i];
+        s[i] = decay_end * s0[i] + convolve(p, 1.0, big, &phi_end);
+        // s = P(μ) + e^{−λ}·(s0 − P(0)) with P = Σ_k (−1/Λ)^k Q^(k) the particular solution.
+        let pcoef = particular(p, big);
+        integral[i] += h
+            * (0..N)
+                .map(|j| W[j] * c[j] * horner(&pcoef, mu[j]))
+                .sum::<f64>();
+        transient[i] = s0[i] - pcoef[0];
+        let (d_end, d_integral) = match &estimate_series {
+            Some((end, at_nodes)) => (
+                end[2 * i + 1],
+                h * (0..N)
+                    .map(|j| W[j] * c[j] * at_nodes[j][2 * i + 1])
+                    .sum::<f64>(),
+            ),
+            None => {
+                // Its particular solution by Gauss, its transient (no longer amplified
+                // by 1/Λ^k) bounded.
+                let pe = particular(extra, big);
+                let gauss = (0..N)
+                    .map(|j| W[j] * c[j] * horner(&pe, mu[j]))
+                    .sum::<f64>();
+                (
+                    convolve(extra, 1.0, big, &phi_end),
+                    (h * gauss).abs() + pe[0].abs() * c_max * layer_bound,
+                )
+            }
+        };
+        err = err.max(tol.estimate(s[i], d_end, d_integral));
+    }
+    // The decaying transient of every component shares `∫ c·e^{−λ} dt`.
+    let transient_max = transient[0].abs().max(transient[1].abs());
+    let mut layer = 0.0;
+    // Skip the layer where it cannot matter.
+    if transient_max * c_max * layer_bound > 1e-3 * tol.rtol * tol.scale_f * h {
+        layer = transient_layer(nodes, a0, transient_max, tol);
+    }
+    for i in 0..dim {
+        integral[i] += transient[i] * layer;
+    }
+    (s, err)
+}
+
+/// `∫ c(t)·e^{−λ(t)} dt` over the step (the transient's share of the observable), on panels
+/// doubling from the relaxation time `1/a(0)` until `e^{−λ}` is negligible.
+fn transient_layer(nodes: &Nodes, a0: f64, transient_max: f64, tol: &Tolerance) -> f64 {
+    let h = nodes.h;
+    let gamma: [f64; N] = std::array::from_fn(|m| (0..N).map(|k| VINV[m][k] * nodes.c[k]).sum());
+    let mut f = |x: f64| horner(&gamma, x) * libm::exp(-nodes.lambda_at(x));
+    let budget = 1e-3 * tol.rtol * tol.scale_f / transient_max;
+    let x_b = (1.0 / (h * a0)).clamp(1e-12, 1.0);
+    let phi_cut = libm::log(1.0 / (1e-3 * tol.rtol)) + 3.0;
+    let (mut lo, mut width) = (0.0, x_b);
+    let mut j = Integral::default();
+    loop {
+        let hi = (lo + width).min(1.0);
+        j += adaptive(&mut f, lo, hi, budget * (hi - lo));
+        if hi >= 1.0 || nodes.lambda_at(hi) > phi_cut {
+            break;
+        }
+        lo = hi;
+        width *= 2.0;
+    }
+    h * j.value
 }
 
 #[cfg(test)]

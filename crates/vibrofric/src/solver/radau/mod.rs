@@ -21,8 +21,11 @@
 //!
 //! Files: `tableau.rs` (the coefficients), `newton.rs` (the stage equations' iteration),
 //! `events.rs` (switching events on the dense output), `control.rs` (error estimate and step
-//! size); this file holds the integrator's state and the step loop that combines them.
+//! size), `attempt.rs` (an attempt's interval, starting values, dense output, what its events
+//! decide, an accepted step's bookkeeping); this file holds the integrator's state and the step
+//! loop that combines them.
 
+mod attempt;
 mod control;
 mod events;
 mod newton;
@@ -31,12 +34,10 @@ pub(super) mod tableau;
 use nalgebra::{SMatrix, SVector};
 
 use super::lu::DenseLu;
-use super::system::{
-    OdeSystem, Quad, SolverError, SolverStats, Step, MAX_DIM, MAX_QUAD, MAX_SWITCH,
-};
+use super::system::{OdeSystem, SolverError, SolverStats, Step, MAX_DIM, MAX_QUAD, MAX_SWITCH};
+use attempt::Switching;
 use newton::{Newton, FULL_STEPS_AFTER_FAILURE};
 pub use tableau::{B, C};
-use tableau::{C1M1, C1MC2, C2M1};
 
 /// The Newton matrix of the stage-Jacobian iteration (on the stack, sized for the largest
 /// state), refilled entry by entry at every attempt: scratch space, not integrator state.
@@ -172,6 +173,12 @@ impl<const N: usize> Radau5<N> {
 
     /// [`Radau5::integrate`] with the linear-algebra workspace supplied by the caller, so that
     /// short calls (small communication steps) do not clear it every time.
+    ///
+    /// Each attempt: its interval ([`Radau5::span`]), Newton's starting values and iteration
+    /// (`newton.rs`; a failure retakes the step with stage Jacobians or shorter), the dense
+    /// output, the switching events on it ([`Radau5::switching`]: an event inside is retaken to
+    /// end on it), the error estimate and step quotient (`control.rs`: an error ≥ 1 rejects),
+    /// and an accepted step's bookkeeping ([`Radau5::accept`]).
     pub fn integrate_with<S: OdeSystem<N>>(
         &mut self,
         work: &mut Workspace,
@@ -204,44 +211,13 @@ impl<const N: usize> Radau5<N> {
         let mut event_target: Option<(f64, usize)> = None;
 
         while self.t < t_end {
-            if self.stats.steps + self.stats.rejected >= self.step_limit {
-                return Err(SolverError::WorkLimit {
-                    t: self.t,
-                    limit: self.step_limit as f64,
-                });
-            }
-            // Choose the step, landing exactly on an event or on t_end.
-            let mut h = self.h.min(h_max);
-            let mut h_unclipped = h;
-            let mut target = None;
-            if let Some((te, _)) = event_target {
-                h_unclipped = self.h;
-                target = Some(te);
-            } else if self.t + 1.0001 * h >= t_end {
-                target = Some(t_end);
-            } else if h <= 10.0 * self.t.abs() * f64::EPSILON {
-                return Err(SolverError::StepSizeTooSmall { t: self.t, h });
-            }
-            let t_new = target.unwrap_or(self.t + h);
-            h = t_new - self.t;
-
+            let span = self.span(t_end, h_max, event_target)?;
+            let h = span.h;
             let scal = self.scal(&self.y, &nominal);
-
-            // Starting values: the previous step's collocation polynomial, extrapolated.
-            let mut z = [SVector::<f64, N>::zeros(); 3];
-            if !self.first && self.has_cont {
-                let c3q = h / self.h_old;
-                for (i, zi) in z.iter_mut().enumerate() {
-                    let cq = C[i] * c3q;
-                    *zi = (self.cont[0]
-                        + (self.cont[1] + self.cont[2] * (cq - C1M1)) * (cq - C2M1))
-                        * cq;
-                }
-            }
+            let mut z = self.starting_values(h);
 
             let (setup, mut fz) = self.newton_setup(sys, m, h, &z, &mut jac_start, &nominal);
             let simplified = setup.simplified;
-
             let newton = self.newton_iterate(sys, m, &setup, h, &mut z, &mut fz, &scal);
             let newt = match newton {
                 Newton::Converged { iterations } => iterations,
@@ -260,109 +236,52 @@ impl<const N: usize> Radau5<N> {
                 }
             };
 
-            // Newton converged: compute the dense output and look for switching events first. A
-            // step across a kink has a meaningless error estimate; it is retaken to end on it.
-            let y_new = self.y + z[2];
-            let cont0 = (z[1] - z[2]) / C2M1;
-            let ak = (z[0] - z[1]) / C1MC2;
-            let acont3 = (ak - z[0] / C[0]) / C[1];
-            let cont1 = (ak - cont0) / C1M1;
-            let cont = [cont0, cont1, cont1 - acont3];
-
-            // Switching functions and the quadrature's integrand at the stages.
-            let observed: [([f64; MAX_SWITCH], Quad); 3] = if n_switch > 0 || q_scale > 0.0 {
-                std::array::from_fn(|i| sys.observe(self.t + C[i] * h, &(self.y + z[i])))
-            } else {
-                [([0.0; MAX_SWITCH], [0.0; MAX_QUAD]); 3]
+            // Newton converged: the dense output, and switching events before the error.
+            let (y_new, cont) = self.dense_output(&z);
+            let observed = self.observe(sys, n_switch, q_scale, h, &z);
+            let event_here = match self.switching(
+                sys,
+                n_switch,
+                h,
+                &observed,
+                &y_new,
+                &cont,
+                &mut event_target,
+            ) {
+                Switching::Retake => continue,
+                Switching::Proceed(event_here) => event_here,
             };
-
-            // Switching events.
-            let mut event_here = None;
-            if n_switch > 0 {
-                if let Some((_, k)) = event_target {
-                    event_here = Some(k);
-                } else if let Some((theta_e, k)) =
-                    self.find_event(sys, n_switch, h, &observed, &y_new, &cont)
-                {
-                    if theta_e < 1.0 - 1e-12 {
-                        let te = self.t + theta_e * h;
-                        if te > self.t {
-                            event_target = Some((te, k));
-                            self.h = h;
-                            continue;
-                        }
-                        // The crossing is at the current time: flip and restart.
-                        self.switch_sign[k] = -self.switch_sign[k];
-                        self.stats.events += 1;
-                        self.first = true;
-                        continue;
-                    }
-                    event_here = Some(k);
-                }
-            }
 
             let (err, quad) = self.error_estimate(
                 sys, &setup, h, &z, &f0, &q0, &observed, &scal, q_scale, q_steers, reject,
             );
             let quot = Self::step_quotient(err, newt);
-            let mut h_new = h / quot;
-
             if err >= 1.0 {
                 self.stats.rejected += 1;
                 reject = true;
                 event_target = None;
-                self.h = if self.first { 0.1 * h } else { h_new };
+                self.h = if self.first { 0.1 * h } else { h / quot };
                 continue;
             }
 
-            // Accept.
-            h_new = h / self.gustafsson(h, err, quot);
-            self.h_acc = h;
-            self.err_acc = err.max(1e-2);
-            self.n_accept += 1;
-            self.stats.steps += 1;
-            let stages = [self.y + z[0], self.y + z[1], y_new];
-            on_step(&Step {
-                t: self.t,
-                h,
-                stages: &stages,
+            self.accept(
+                sys,
+                &mut on_step,
+                &span,
+                &z,
+                y_new,
+                cont,
+                err,
+                quot,
                 quad,
-            });
-            let mut y_acc = y_new;
-            sys.project(t_new, &mut y_acc);
-            self.y = y_acc;
-            self.t = t_new;
-            self.cont = cont;
-            self.has_cont = true;
-            self.h_old = h;
-            if reject {
-                h_new = h_new.min(h);
-            }
-            if target.is_some() && h_unclipped > h {
-                // A clipped step says little about the natural step size.
-                h_new = h_new.max(h_unclipped);
-            }
-            if self.after_event {
-                // Learn the restart step: what this first step after the event proposes next.
-                self.h_event = h_new;
-                self.after_event = false;
-            }
-            self.first = false;
+                reject,
+                simplified,
+                event_here,
+            );
             reject = false;
-            self.h = h_new;
             jac_start = None;
-            if !simplified {
-                self.full_left = self.full_left.saturating_sub(1);
-            }
-            if let Some(k) = event_here {
+            if event_here.is_some() {
                 event_target = None;
-                self.switch_sign[k] = -self.switch_sign[k];
-                self.stats.events += 1;
-                self.first = true;
-                self.after_event = true;
-                if self.h_event > 0.0 {
-                    self.h = self.h_event;
-                }
             }
             f0 = sys.rhs(self.t, &self.y);
             q0 = sys.quadrature(self.t, &self.y);
@@ -450,6 +369,7 @@ impl<const N: usize> Radau5<N> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::solver::system::Quad;
     use nalgebra::Vector2;
 
     /// Prothero–Robinson: y' = −λ(y − sin t) + cos t, exact y = sin t, arbitrarily stiff.
