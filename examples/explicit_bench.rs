@@ -8,7 +8,7 @@
 //! over the next 0.1 s).
 //!
 //! cargo run --release --example explicit_bench [T [NAME]]   (T = 1 by default; only the
-//! scene NAME)
+//! scene NAME; with `KT=<k_t>` in the environment the table's rows at that stiffness)
 
 #[path = "../tests/support/scenes.rs"]
 #[allow(dead_code)]
@@ -74,7 +74,11 @@ fn main() {
         {
             continue;
         }
-        let p = scene.start;
+        // `KT=1e12` in the environment: the table's rows at that contact stiffness.
+        let p = match std::env::var("KT").ok().and_then(|v| v.parse().ok()) {
+            Some(k_t) => Params { k_t, ..scene.start },
+            None => scene.start,
+        };
         let period = if scene.config.harmonic {
             1.0 / p.f
         } else {

@@ -8,7 +8,8 @@ use super::*;
 /// ([module docs](self)), `kin_stage(i, tt, y)` what the right-hand side needs at stage `i`:
 /// the step, its end (the deformation from the second pass's extension), the deformation's
 /// largest scaled error (relative tolerance `rtol`, scales `scale`) and the rest's (λ's, or
-/// infinite where the interpolation's nodes did not increase), and whether the second pass
+/// infinite where the interpolation's nodes did not increase; `by_moves`: weighed by how far
+/// it moves the deformation, [`LAMBDA_BY_MOVES_FROM`]), and whether the second pass
 /// was taken (six more right-hand sides). `vr_at` gets `v_r` at the stages of the last pass.
 #[allow(clippy::too_many_arguments)] // the step's own arguments, and what it needs
 pub(super) fn exponential_step<
@@ -26,6 +27,7 @@ pub(super) fn exponential_step<
     hh: f64,
     rtol: f64,
     scale: &[f64],
+    by_moves: bool,
     vr_at: &mut [V; 7],
 ) -> (DoPriStep<M>, [f64; M], f64, f64, bool) {
     let il = N + V::DIM;
@@ -99,7 +101,16 @@ pub(super) fn exponential_step<
         err_s = err_s.max((s5[c] - s4[c]).abs() / w);
     }
     // λ places the interpolation's nodes: its error relative to the step's λ.
-    err = err.max(step.err[il].abs() / (rtol * u1[il].max(1.0)));
+    // λ's error moves the deformation by about `|s − q|` times it ([`LAMBDA_BY_MOVES_FROM`]).
+    let mut moves = 1.0f64;
+    if by_moves {
+        moves = 0.0;
+        for c in 0..V::DIM {
+            moves = moves.max((s5[c] - fine.q[5][c]).abs() / (scale[c] + s5[c].abs()));
+        }
+        moves = moves.min(1.0);
+    }
+    err = err.max(step.err[il].abs() / (rtol * u1[il].max(1.0)) * moves);
     if bad {
         err = f64::INFINITY;
     }

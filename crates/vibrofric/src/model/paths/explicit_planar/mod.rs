@@ -60,6 +60,36 @@
 //! 36 steps and `F_Fx` 1.5e-6 at 1e8, 105 steps at 1e12: the deformation and the body are
 //! to be solved together at the stages.
 //!
+//! Where the time goes at `k_t` = 1e12 (the same period traced; `examples/explicit_bench.rs`
+//! with `KT=1e12`, 0.05 s): 159 attempts, 101 plain (the ~40 steps after each reversal, held
+//! by the deformation's error at 0.3 to 0.8 of the tolerance while the body's is about 1e-3
+//! of it), 49 exponential and 9 on the Coulomb limit, 155 µs per period at tolerance 1e-6;
+//! at 1e8, 49 plain attempts, 18 µs (0.37 µs each). The exponential and manifold attempts,
+//! about 2 µs each, take three quarters of the time at 1e12, so that steps saved after the
+//! reversal buy little. Measured (three interleaved runs each, 1e8 unchanged by all; kept
+//! on the side branch `issue-38-weigh-try`): LuGre's deformation error weighed by what it
+//! leaves as Dahl's is ([`WEIGH_UP_TO`]), with the damping's impulse `h_t(0)·δs` added to
+//! the push: 136 → 101 steps per period at 1e-6 (332 → 243 at 1e-8) but 155 → 152 µs (356 →
+//! 339), `F_Fx` 2.86e-6 → 2.91e-6 of `F_C` off Radau at 1e-12 (5.18e-8 → 5.31e-8). The
+//! exponential step taken from a relaxation of 0.2 per step where `g(v_r)` and `h_t(v_r)`
+//! are within 1 % of their values at rest (`q` constant there; its deformation error 1e-7
+//! of the tolerance where the plain step's is 0.5): 114 steps but 188 to 193 µs, `F_Fx`
+//! 2.51e-6. Its λ, `∫|v_r|/g dt`, carries the body's velocity error amplified by `h/g` and
+//! then holds the steps at 3e-7 to 6e-7 s; weighing λ's error by what it moves `s` by,
+//! `|s − q|`, left 103 steps and the time as it was. Nor are these steps stability-limited:
+//! `sqrt(k_t/m)` is 4.2e5 /s (m = 5.6 kg), `ω·h` 0.04 to 0.13 on them against DOPRI's bound
+//! of about 3.3; an L-stable step on `(s, v)` pays only where it also resolves the turn-over
+//! of `s` (width `sqrt(2g/a_r)`, 8e-7 s) at longer steps. What is left: the exponential
+//! attempt's cost (two passes and the interpolation; in a profile of the whole bench at
+//! 1e12, Radau's reference 15 %, `steps` 37 %, `exponential_step` 15.5 %, `next_size`'s power
+//! 3.3 %, the certificate's `lugre_point` 3.2 %, the sign change's `root` 2.7 %) and their
+//! number: about 5 rejected before each reversal with the sign change inside, and steps of
+//! 5e-6 to 8e-6 s while sliding where 1e8 slides in plain steps of 1.5e-5 s, held there by
+//! λ's error (0.5 to 2.3 of the tolerance, the deformation's and the body's below 0.1): at
+//! tolerance 1e-6 that error now counts by how far it moves the deformation
+//! ([`LAMBDA_BY_MOVES_FROM`]), 149–157 → 124–126 µs per period at 1e12 (the ratio to 1e8
+//! from 0.1 to 0.2 s 8.3 → 7.1).
+//!
 //! Dahl's and LuGre's deformation rate `v_r − |v_r|·s/s_ss` is Lipschitz continuous
 //! everywhere (its kink where `v_r` passes through zero in the plane is a point, found by the
 //! error control). While
@@ -151,6 +181,22 @@ const BRIDGE: f64 = 1e-3;
 /// and 4.8e-11); the same steps at 1e8 and on PaperTransverse. At 1e-10 (`k_t` = 1e11) the
 /// body's position drifted past ten tolerances of Radau at 1e-12.
 const WEIGH_EXPONENTIAL_DOWN_TO: f64 = 1e-8;
+
+/// The tightest tolerance at which a LuGre contact's exponential step weighs the error of its
+/// λ by how far it moves the deformation: `s = P(λ) + (s0 − P(0))·exp(−λ)` moves by `|s − q|`
+/// times an error in λ at the step's end, and by about as much times its relative error
+/// through the nodes of the interpolation, so that the error counts `|s − q|/(s_nom + |s|)`
+/// (at most 1) of itself. λ, `∫|v_r|/g dt`, carries the body's velocity error amplified by
+/// `h/g`; while sliding at a stiff contact it held the steps where the deformation had
+/// followed its target to a few thousandths. VibratingContactLuGre at `k_t` = 1e12,
+/// `examples/explicit_bench.rs` 0.05 s, four interleaved runs each: tolerance 1e-6, 136.4 →
+/// 129.9 steps per period, 149–157 → 124–126 µs CPU, `F_Fx` 2.86e-6 → 1.81e-6 of `F_C` off
+/// Radau at 1e-12 (1e8 and DrillStringAxial unchanged). At 1e-8 it cut the time by a third (332 → 276
+/// steps) but `F_Fx` rose from 5.18e-8 to 6.18e-8; on Dahl's planar contacts it cost accuracy
+/// (RigTransverse at 1e12, tolerance 1e-6: 1.1e-7 → 7.6e-7) and is not taken. Nor at
+/// tolerances looser than [`WEIGH_UP_TO`] (not measured; there the deformation's error is
+/// not weighed either).
+const LAMBDA_BY_MOVES_FROM: f64 = 1e-6;
 
 /// The smallest error the predictive step size on the manifold takes from a step (smaller
 /// errors say nothing about a trend).

@@ -20,6 +20,9 @@ struct Call<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, 
     exponential_from: f64,
     /// Whether a step's deformation error is weighed by what it leaves ([`settled`]).
     weigh: bool,
+    /// Whether an exponential step's λ error is weighed by how far it moves the deformation
+    /// ([`LAMBDA_BY_MOVES_FROM`]).
+    by_moves: bool,
     /// What a deformation error pushes into the body per unit of time ([`settled`]).
     push: f64,
 }
@@ -58,6 +61,9 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M
             rtol,
             exponential_from: EXPONENTIAL_FROM.min(EXPONENTIAL_REACH * libm::pow(rtol, 0.2)),
             weigh: dynamics.law.relaxation().is_some() && tol <= WEIGH_UP_TO,
+            by_moves: dynamics.law.relaxation().is_none()
+                && dynamics.law.breakaway().is_none()
+                && (LAMBDA_BY_MOVES_FROM..=WEIGH_UP_TO).contains(&tol),
             push: run.push * (sys.scale[0] + dynamics.law.envelope()) / sys.scale[N - 1],
         }
     }
@@ -293,8 +299,18 @@ fn attempt<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: 
         }
         (step, *u1)
     } else if exponential {
-        let (step, u1, e_s, e, second) =
-            exponential_step(eqs, &kin_stage, t, u, k1, hh, rtol, scale, &mut vr_at);
+        let (step, u1, e_s, e, second) = exponential_step(
+            eqs,
+            &kin_stage,
+            t,
+            u,
+            k1,
+            hh,
+            rtol,
+            scale,
+            call.by_moves,
+            &mut vr_at,
+        );
         if second {
             stats.rhs_evals += 6;
         }
