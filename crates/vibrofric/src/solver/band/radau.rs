@@ -164,6 +164,32 @@ impl BandWork {
         self.f0.len() == n
     }
 
+    /// `E1 = U1/h − J` and `E2 = (ALPH + i·BETA)/h − J`, factored.
+    fn factor<S: BandSystem>(&mut self, sys: &S, h: f64) {
+        let n = self.f0.len();
+        let (g, a) = (U1 / h, Complex::new(ALPH / h, BETA / h));
+        self.chained = sys.chain() && self.c1.factor(&self.jac, g) && self.c2.factor(&self.jac, a);
+        if self.chained {
+            return;
+        }
+        let (kl, ku) = self.jac.bands();
+        let (e1, e2) = (self.e1.matrix(), self.e2.matrix());
+        for j in 0..n {
+            for i in j.saturating_sub(ku)..=(j + kl).min(n - 1) {
+                let v = self.jac.get(i, j);
+                if i == j {
+                    e1.set(i, j, g - v);
+                    e2.set(i, j, a - Complex::new(v, 0.0));
+                } else {
+                    e1.set(i, j, -v);
+                    e2.set(i, j, Complex::new(-v, 0.0));
+                }
+            }
+        }
+        self.e1.factor();
+        self.e2.factor();
+    }
+
     /// Solves the real Newton system `(γ·I − J)·x = dw` in place.
     fn solve_real(&mut self) {
         if self.chained {
@@ -273,7 +299,7 @@ impl BandRadau {
                 self.stats.jacobians += 1;
                 jac_fresh = true;
             }
-            self.factor(sys, work, h);
+            work.factor(sys, h);
             self.starting_values(work, h);
             let newt = match self.newton(sys, work, h) {
                 Ok(newt) => newt,
@@ -359,32 +385,6 @@ impl BandRadau {
         (h * libm::pow(self.tol, 0.2))
             .min(span)
             .max(1e-14 * (1.0 + self.t.abs()))
-    }
-
-    /// `E1 = U1/h − J` and `E2 = (ALPH + i·BETA)/h − J`, factored.
-    fn factor<S: BandSystem>(&self, sys: &S, work: &mut BandWork, h: f64) {
-        let n = self.y.len();
-        let (g, a) = (U1 / h, Complex::new(ALPH / h, BETA / h));
-        work.chained = sys.chain() && work.c1.factor(&work.jac, g) && work.c2.factor(&work.jac, a);
-        if work.chained {
-            return;
-        }
-        let (kl, ku) = work.jac.bands();
-        let (e1, e2) = (work.e1.matrix(), work.e2.matrix());
-        for j in 0..n {
-            for i in j.saturating_sub(ku)..=(j + kl).min(n - 1) {
-                let v = work.jac.get(i, j);
-                if i == j {
-                    e1.set(i, j, g - v);
-                    e2.set(i, j, a - Complex::new(v, 0.0));
-                } else {
-                    e1.set(i, j, -v);
-                    e2.set(i, j, Complex::new(-v, 0.0));
-                }
-            }
-        }
-        work.e1.factor();
-        work.e2.factor();
     }
 
     /// The stage increments' first guess: the last step's collocation polynomial, extrapolated.

@@ -293,10 +293,7 @@ fn attempt<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: 
     let exp_step;
     let (step, u1) = if let Some((step, u1)) = &on_limit {
         // The deformation's error: the manifold's under the body's.
-        for c in 0..V::DIM {
-            let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
-            err = err.max((step.err[c] / w).abs());
-        }
+        err = scaled_error(err, &step.err, u, u1, scale, rtol, 0..V::DIM);
         (step, *u1)
     } else if exponential {
         let (step, u1, e_s, e, second) = exponential_step(
@@ -325,17 +322,11 @@ fn attempt<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: 
         };
         plain.retake(&mut stage, t, u, k1, hh);
         let u1 = plain.end();
-        for c in 0..V::DIM {
-            let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
-            err_s = err_s.max((plain.err[c] / w).abs());
-        }
+        err_s = scaled_error(err_s, &plain.err, u, &u1, scale, rtol, 0..V::DIM);
         (&*plain, u1)
     };
     stats.rhs_evals += 6;
-    for i in V::DIM..N {
-        let w = rtol * (scale[i] + u[i].abs().max(u1[i].abs()));
-        err = err.max((step.err[i] / w).abs());
-    }
+    err = scaled_error(err, &step.err, u, &u1, scale, rtol, V::DIM..N);
     // Short of the call's end a step's deformation error counts by what it leaves
     // ([`settled`]; Dahl's only: LuGre's force also takes `ds/dt`, whose error is not
     // left behind the same way). An
@@ -379,6 +370,24 @@ fn attempt<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: 
         crossing,
         bridge,
     }
+}
+
+/// The largest of `err` and the errors `e` of components `range` of a step from `u` to `u1`,
+/// each against `rtol` times its scale plus its magnitude.
+#[inline(always)]
+fn scaled_error(
+    err: f64,
+    e: &[f64],
+    u: &[f64],
+    u1: &[f64],
+    scale: &[f64],
+    rtol: f64,
+    range: std::ops::Range<usize>,
+) -> f64 {
+    range.fold(err, |err, c| {
+        let w = rtol * (scale[c] + u[c].abs().max(u1[c].abs()));
+        err.max((e[c] / w).abs())
+    })
 }
 
 /// Where the step after an accepted one of length `hh` from `t`, which ended on a sign change
