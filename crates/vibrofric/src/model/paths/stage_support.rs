@@ -100,8 +100,13 @@ impl<V: Vector> StageSupport<V> {
     }
 
     /// The support velocity at the stage times `t + C[i]·h` of a step from `t`; the phase
-    /// then known at the step's start and end.
-    #[inline(always)]
+    /// then known at the step's start and end. Never inlined: inlined into the explicit
+    /// path's walk, rustc 1.95 (LLVM) once returned the phase carried by rotation with its
+    /// sine 0 (cosine right) depending on whether that walk was itself inlined into
+    /// `paths::advance` (`#[inline(never)]` on `advance_explicit` changed RigLongitudinal at
+    /// `k_t` = 1e12 from 3209 to 115771 steps); out of line its code no longer depends on
+    /// its callers'.
+    #[inline(never)]
     pub(super) fn stages(&mut self, t: f64, h: f64) -> [V; 7] {
         let mut w = [V::default(); 7];
         if let Some(hm) = &self.harmonic {
