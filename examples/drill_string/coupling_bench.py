@@ -103,7 +103,6 @@ def reference(n, stop):
     """The monolithic integration, state [x, v, s] per section and the integral of F_bottom,
     piece by piece of the tool's force; returns the times of the pieces' ends, F_bottom there
     and F_bottom's mean over each piece."""
-    tool = 3 * n // 4
     piece = [0.0, 0.0, 0.0]
 
     def rhs(t, y):
@@ -113,15 +112,8 @@ def reference(n, stop):
         g = (F_C + (F_S - F_C) * e) / K_T
         ds = v - np.abs(v) * s / g
         f = K_T * s + H_T0 * e * ds
-        link = K_S * np.diff(x) + C_S * np.diff(v)
-        force = -f
-        force[:-1] += link
-        force[1:] -= link
-        force[0] += K_TOP * (V_TOP * t - x[0]) + C_TOP * (V_TOP - v[0])
-        bottom = K_BOT * x[-1] + C_BOT * v[-1]
-        force[-1] -= bottom
-        force[tool] += piece[1] + piece[2] * (t - piece[0])
-        dy[0:-1:3], dy[1:-1:3], dy[2:-1:3], dy[-1] = v, force / M, ds, bottom
+        force, bottom = chain_forces(t, x, v, piece[1] + piece[2] * (t - piece[0]))
+        dy[0:-1:3], dy[1:-1:3], dy[2:-1:3], dy[-1] = v, (force - f) / M, ds, bottom
         return dy
 
     pattern = lil_matrix((3 * n + 1, 3 * n + 1))
@@ -190,8 +182,9 @@ def run_string(path, n, stop, h=1e-3):
     return cpu, np.arange(1, steps + 1) * h, np.array(wob), np.array(means)
 
 
-def chain_forces(t, x, v):
-    """The links, ends and tool on every section of the host's chain; and F_bottom."""
+def chain_forces(t, x, v, tool=None):
+    """The links, ends and tool on every section of a chain at t (the tool's force `tool`, or
+    the piecewise-linear one at t); and F_bottom."""
     n = len(x)
     force = np.zeros(n)
     link = K_S * np.diff(x) + C_S * np.diff(v)
@@ -200,7 +193,7 @@ def chain_forces(t, x, v):
     force[0] += K_TOP * (V_TOP * t - x[0]) + C_TOP * (V_TOP - v[0])
     bottom = K_BOT * x[-1] + C_BOT * v[-1]
     force[-1] -= bottom
-    force[3 * n // 4] += tool_force(t)
+    force[3 * n // 4] += tool_force(t) if tool is None else tool
     return force, bottom
 
 

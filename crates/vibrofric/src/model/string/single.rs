@@ -84,6 +84,25 @@ impl Single {
         (self.sim.time(), [o.x, o.v_x, o.s_x])
     }
 
+    /// Sets an input on the shadow string (placed at the contact's state first) and, where
+    /// the contact has it, on the contact; an error leaves both as they were.
+    fn set_both(
+        &mut self,
+        input: StringInput,
+        on_shadow: impl FnOnce(&mut dyn StringSimulator) -> Result<(), SimError>,
+        on_contact: impl FnOnce(&mut dyn Simulator, InputId) -> Result<(), SimError>,
+    ) -> Result<(), SimError> {
+        let (t, y) = self.state();
+        let mut shadow = self.shadow.clone_box();
+        shadow.place(t, &y)?;
+        on_shadow(shadow.as_mut())?;
+        if let Some(id) = self.input(input)? {
+            on_contact(self.sim.as_mut(), id)?;
+        }
+        self.shadow = shadow;
+        Ok(())
+    }
+
     /// The shadow string placed at the contact's time and state.
     fn placed(&self) -> Box<dyn StringSimulator> {
         let mut s = self.shadow.clone_box();
@@ -160,28 +179,20 @@ impl StringSimulator for Single {
 
     fn set_input(&mut self, input: StringInput, value: f64) -> Result<(), SimError> {
         input.check(value)?;
-        let (t, y) = self.state();
-        let mut shadow = self.shadow.clone_box();
-        shadow.place(t, &y)?;
-        shadow.set_input(input, value)?;
-        if let Some(id) = self.input(input)? {
-            self.sim.set_input(id, value)?;
-        }
-        self.shadow = shadow;
-        Ok(())
+        self.set_both(
+            input,
+            |s| s.set_input(input, value),
+            |c, id| c.set_input(id, value),
+        )
     }
 
     fn set_input_derivative(&mut self, input: StringInput, value: f64) -> Result<(), SimError> {
         input.check_derivative(value)?;
-        let (t, y) = self.state();
-        let mut shadow = self.shadow.clone_box();
-        shadow.place(t, &y)?;
-        shadow.set_input_derivative(input, value)?;
-        if let Some(id) = self.input(input)? {
-            self.sim.set_input_derivative(id, value)?;
-        }
-        self.shadow = shadow;
-        Ok(())
+        self.set_both(
+            input,
+            |s| s.set_input_derivative(input, value),
+            |c, id| c.set_input_derivative(id, value),
+        )
     }
 
     fn step_to(&mut self, t_end: f64) -> Result<(), SimError> {
