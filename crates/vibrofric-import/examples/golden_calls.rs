@@ -104,7 +104,10 @@ fn run(dir: &Path) -> Result<usize, String> {
         let path3 = dir.join("fmi3").join(path.file_name().unwrap_or_default());
         if path3.is_file() {
             let fmu3 = Fmu3::load(&path3).map_err(|e| format!("{}: {e}", path3.display()))?;
-            let vrs3: Vec<u32> = vrs.iter().copied().filter(|&v| v != 0).collect();
+            // FMI 3.0's own variables (arrays whole), but the independent time.
+            let vars3 = fmu3.description.variables.iter().filter(|v| v.vr != 0);
+            let vrs3: Vec<u32> = vars3.clone().map(|v| v.vr).collect();
+            let n3: usize = vars3.map(|v| v.size).sum();
             let mut i3 = fmu3
                 .instantiate("golden")
                 .map_err(|e| format!("{id}: {e}"))?;
@@ -115,7 +118,9 @@ fn run(dir: &Path) -> Result<usize, String> {
                 let (s, _) = i3.do_step(t, h);
                 ok(s, "doStep3")?;
                 t += h;
-                let y = i3.get_f64(&vrs3).map_err(|s| format!("{id} get3 {s:?}"))?;
+                let y = i3
+                    .get_f64_values(&vrs3, n3)
+                    .map_err(|s| format!("{id} get3 {s:?}"))?;
                 println!("{id} cs3 t={t} {}", hex(&y));
             }
             let st = i3

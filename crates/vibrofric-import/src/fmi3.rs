@@ -298,7 +298,12 @@ impl Instance3<'_> {
     }
 
     pub fn get_f64(&mut self, vrs: &[u32]) -> Result<Vec<f64>, Status> {
-        let mut v = vec![0.0; vrs.len()];
+        self.get_f64_values(vrs, vrs.len())
+    }
+
+    /// The `n` values of the variables `vrs` (arrays hold several each).
+    pub fn get_f64_values(&mut self, vrs: &[u32], n: usize) -> Result<Vec<f64>, Status> {
+        let mut v = vec![0.0; n];
         match status(unsafe {
             (self.f.get)(self.raw, vrs.as_ptr(), vrs.len(), v.as_mut_ptr(), v.len())
         }) {

@@ -237,6 +237,9 @@ pub struct Variable {
     /// The `causality` attribute: `parameter`, `input`, `output`, `local`, ... (`local` where
     /// it is absent, the default of both editions).
     pub causality: String,
+    /// How many values it holds: 1, or for an FMI 3.0 array the product of its `Dimension`
+    /// elements' `start` (this FMU's arrays have fixed sizes).
+    pub size: usize,
 }
 
 impl Description {
@@ -299,7 +302,20 @@ impl Description {
                         name,
                         vr,
                         causality,
+                        size: 1,
                     });
+                }
+                "Dimension" => {
+                    let start: Option<usize> = attr("start")?.and_then(|v| v.parse().ok());
+                    match (d.variables.last_mut(), start) {
+                        (Some(v), Some(n)) => v.size *= n,
+                        _ => {
+                            return err(
+                                "modelDescription.xml: a Dimension without a fixed start (sizes \
+                                 from structural parameters are not read)",
+                            )
+                        }
+                    }
                 }
                 _ => {}
             }
@@ -651,6 +667,31 @@ mod tests {
             ]
         );
         assert_eq!(d.vr("F_Fx"), Some(201));
+        assert!(d.variables.iter().all(|v| v.size == 1));
+    }
+
+    /// FMI 3.0 arrays: a variable's size is the product of its dimensions.
+    #[test]
+    fn description_reads_array_sizes() {
+        let xml = r#"<fmiModelDescription fmiVersion="3.0" modelName="m" instantiationToken="{g}">
+            <CoSimulation modelIdentifier="M"/>
+            <ModelVariables>
+              <Float64 name="time" valueReference="0" causality="independent"/>
+              <Float64 name="m" valueReference="1000000" causality="parameter" start="1 2 3">
+                <Dimension start="3"/>
+              </Float64>
+              <Float64 name="a" valueReference="7" causality="parameter">
+                <Dimension start="2"/><Dimension start="5"/>
+              </Float64>
+              <Float64 name="F_top" valueReference="201" causality="output"/>
+            </ModelVariables></fmiModelDescription>"#;
+        let d = Description::parse(xml).unwrap();
+        let sizes: Vec<(&str, usize)> = d
+            .variables
+            .iter()
+            .map(|v| (v.name.as_str(), v.size))
+            .collect();
+        assert_eq!(sizes, [("time", 1), ("m", 3), ("a", 10), ("F_top", 1)]);
     }
 
     #[test]

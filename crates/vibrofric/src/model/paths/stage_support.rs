@@ -76,13 +76,8 @@ impl<V: Vector> StageSupport<V> {
         support
     }
 
-    /// The harmonic source's phase at `t` as (cosine, sine): known, or afresh. Never inlined:
-    /// inlined into the explicit path's walk, rustc 1.95 (LLVM) once gave `stages` the phase
-    /// carried by rotation with its sine 0 (the cosine right), depending only on whether that
-    /// walk was itself inlined into `paths::advance` (`#[inline(never)]` on `advance_explicit`
-    /// took RigLongitudinal at `k_t` = 1e12 from 3209 to 115771 steps); out of line, the
-    /// known phases are read from memory as a pair. About 1 % more instructions.
-    #[inline(never)]
+    /// The harmonic source's phase at `t` as (cosine, sine): known, or afresh.
+    #[inline(always)]
     fn phase(&self, t: f64) -> (f64, f64) {
         let [(t0, p0), (t1, p1)] = self.known;
         if t == t0 {

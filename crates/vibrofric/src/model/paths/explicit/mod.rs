@@ -195,7 +195,9 @@ fn elastic_call<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     elastic_step(s, x, v, t_target - t, k_t, c.params.m, s_ba, &forcing)
 }
 
-/// Advances the explicit path to `t_target`: `∫F_F dt` over the call.
+/// Advances the explicit path to `t_target`: `∫F_F dt` over the call. Out of line: its walk
+/// is the hot loop, and kept apart from the choice of path it runs about 3 % faster.
+#[inline(never)]
 fn advance_explicit<V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize>(
     c: &Shared<'_, V, L, D, N>,
     r: &mut Integrated<N>,

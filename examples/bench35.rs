@@ -1,0 +1,62 @@
+//! Helper bench for issue 35 (not part of the repository): one standard scene, one setting.
+//! bench35 FILE TOL KT T REPS  -> prints min CPU µs per period over REPS runs to T seconds
+//! (communication steps of 1 ms), the path and steps. KT 0 keeps the scene's k_t.
+//! REPS 0: builds the simulator only (for subtracting the start-up's instructions).
+
+#[path = "../tests/support/scenes.rs"]
+#[allow(dead_code)]
+mod scenes;
+
+use cpu_time::ProcessTime;
+use vibrofric::model::Setup;
+
+fn main() {
+    let a: Vec<String> = std::env::args().collect();
+    let file = &a[1];
+    let tol: f64 = a[2].parse().unwrap();
+    let kt: f64 = a[3].parse().unwrap();
+    let t_end: f64 = a[4].parse().unwrap();
+    let reps: usize = a[5].parse().unwrap();
+    let scene = scenes::scene(file);
+    let mut p = scene.start;
+    if kt > 0.0 {
+        p.k_t = kt;
+    }
+    let period = if scene.config.harmonic {
+        1.0 / p.f
+    } else {
+        5e-4
+    };
+    let n = (t_end / 1e-3).round() as usize;
+    let mut best = f64::INFINITY;
+    let mut info = String::new();
+    let mut sum = 0.0;
+    if reps == 0 {
+        let sim = Setup::new(scene.config, p)
+            .inputs(scene.inputs)
+            .tolerance(tol)
+            .build()
+            .unwrap();
+        println!("built {:?}", sim.integrator());
+        return;
+    }
+    for _ in 0..reps {
+        let start = ProcessTime::now();
+        let mut sim = Setup::new(scene.config, p)
+            .inputs(scene.inputs)
+            .tolerance(tol)
+            .build()
+            .unwrap();
+        for k in 1..=n {
+            sim.step_to(k as f64 * 1e-3).unwrap();
+            sum += sim.outputs().f_fx;
+        }
+        let c = start.elapsed().as_secs_f64();
+        best = best.min(c);
+        info = format!("{:?} steps {}", sim.integrator(), sim.stats().steps);
+    }
+    println!(
+        "{file} tol {tol:e} kt {kt:e}: {:.4} us/period min of {reps}; {info} ({sum:e})",
+        best / (t_end / period) * 1e6
+    );
+}
