@@ -17,8 +17,8 @@
 
 use super::equations::PER_SECTION;
 use super::{StringOutputs, StringSim};
-use crate::model::SimError;
-use crate::model::DOMAIN_FACTOR;
+use crate::model::exchange::DOMAIN_FACTOR;
+use crate::model::simulator::SimError;
 use crate::physics::{FrictionLaw, InputTrack};
 use crate::solver::band::{Band, BandSystem};
 use crate::table::number;

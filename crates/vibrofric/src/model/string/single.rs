@@ -8,7 +8,9 @@
 
 use super::exchange::{InputDirection, StringExchange};
 use super::{StringConfig, StringInput, StringOutputs, StringParams, StringSimulator};
-use crate::model::{ContactState, Setup, SimError, Simulator, StepStats};
+use crate::model::setup::Setup;
+use crate::model::simulator::{SimError, Simulator, StepStats};
+use crate::model::state::ContactState;
 use crate::table::{Config, Drive, InputId, Inputs, Lateral, Motion};
 
 /// First number of a saved state of this kind (the band integrator's saved states start with
