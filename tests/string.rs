@@ -494,3 +494,65 @@ fn a_section_lifted_off_the_wall_carries_no_friction() {
         }
     }
 }
+
+/// A state saved where sections have been integrated again (each keeps the step its own
+/// integrator ended with) continues bit for bit in a fresh string; one saved without those
+/// steps (as before they were kept) restores too, its sections' next refinements starting
+/// afresh, and ends within the tolerance's order of the run that kept them; a negative own
+/// step is refused.
+#[test]
+fn a_saved_state_with_the_sections_own_steps_continues_bit_for_bit() {
+    let p = pipe(6);
+    let tol = 1e-6;
+    let h = 1e-3;
+    let step = |sim: &mut Box<dyn StringSimulator>, c: usize| {
+        let (i_tool, f_tool) = p.tool(c as f64 * h);
+        sim.set_input(StringInput::Fd(i_tool), f_tool).unwrap();
+        sim.step_to((c + 1) as f64 * h).unwrap();
+    };
+    let mut a = fed_string(&p, tol);
+    for c in 0..60 {
+        step(&mut a, c);
+    }
+    assert!(a.section_steps() > 0, "no section was integrated again");
+    let saved = a.save();
+    let own = &saved[saved.len() - p.n..];
+    assert!(
+        own.iter().any(|&h_own| h_own > 0.0),
+        "no own step kept: {own:?}"
+    );
+    let mut b = fed_string(&p, tol);
+    b.restore(&saved).unwrap();
+    let mut old = fed_string(&p, tol);
+    old.restore(&saved[..saved.len() - p.n]).unwrap();
+    for c in 60..120 {
+        step(&mut a, c);
+        step(&mut b, c);
+        step(&mut old, c);
+    }
+    let (oa, ob, oo) = (a.outputs(), b.outputs(), old.outputs());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&oa.x), bits(&ob.x));
+    assert_eq!(bits(&oa.v_x), bits(&ob.v_x));
+    assert_eq!(bits(&oa.f_fx_step), bits(&ob.f_fx_step));
+    assert_eq!(oa.f_bottom_step.to_bits(), ob.f_bottom_step.to_bits());
+    // Without the own steps: another path through the same equations, as close as two
+    // integrations at this tolerance (the velocities' scale is the tool's, about 0.1 m/s).
+    for i in 0..p.n {
+        assert!(
+            (oa.x[i] - oo.x[i]).abs() <= 1e-6 * 1e-2,
+            "x[{i}]: {} {}",
+            oa.x[i],
+            oo.x[i]
+        );
+        assert!(
+            (oa.v_x[i] - oo.v_x[i]).abs() <= 1e-6 * 0.1 * 10.0,
+            "v_x[{i}]"
+        );
+    }
+    let mut bad = saved.clone();
+    let last = bad.len() - 1;
+    bad[last] = -1e-4;
+    let e = fed_string(&p, tol).restore(&bad).unwrap_err().to_string();
+    assert!(e.contains("own step that is negative"), "{e}");
+}

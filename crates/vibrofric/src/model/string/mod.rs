@@ -388,6 +388,9 @@ struct StringSim<L> {
     nominal: Vec<f64>,
     /// The work of the sections integrated again, and their integrator's scratch space.
     refined: SolverStats,
+    /// Each section's step its last refinement would have taken next (0: never refined):
+    /// where the next starts.
+    own_steps: Vec<f64>,
     work3: Workspace,
     /// Scratch: the string's error scale at a step's start.
     scratch: Vec<f64>,
@@ -431,6 +434,7 @@ impl<L: FrictionLaw> StringSim<L> {
             means: vec![0.0; n + 2],
             nominal: vec![0.0; PER_SECTION * n],
             refined: SolverStats::default(),
+            own_steps: vec![0.0; n],
             work3: Workspace::new(PER_SECTION),
             scratch: vec![0.0; PER_SECTION * n],
             exchange: false,
@@ -507,6 +511,7 @@ fn accept_step<L: FrictionLaw>(
     tol: f64,
     work3: &mut Workspace,
     stats: &mut SolverStats,
+    own_steps: &mut [f64],
 ) -> Result<(), SolverError> {
     let n = model.n();
     let (t, h) = (step.t, step.h);
@@ -528,8 +533,10 @@ fn accept_step<L: FrictionLaw>(
             nominal,
             x_scale,
             tol,
+            own_steps[i],
             work3,
         )?;
+        own_steps[i] = r.next_step;
         stats.steps += r.stats.steps;
         stats.rejected += r.stats.rejected;
         stats.rhs_evals += r.stats.rhs_evals;
@@ -634,21 +641,22 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
                 target: t_end,
             });
         }
-        let saved = (self.radau.clone(), self.refined);
+        let saved = (self.radau.clone(), self.refined, self.own_steps.clone());
         self.model.hold_loads();
         let model = &self.model;
         let integrals = &mut self.integrals;
         integrals.fill(0.0);
         let (nominal, work3, refined) = (&self.nominal, &mut self.work3, &mut self.refined);
+        let own_steps = &mut self.own_steps;
         let scratch = &mut self.scratch;
         let tol = self.radau.tolerance();
         let result = self.radau.integrate(model, &mut self.work, t_end, |step| {
             accept_step(
-                model, step, integrals, nominal, scratch, tol, work3, refined,
+                model, step, integrals, nominal, scratch, tol, work3, refined, own_steps,
             )
         });
         if let Err(e) = result {
-            (self.radau, self.refined) = saved;
+            (self.radau, self.refined, self.own_steps) = saved;
             return Err(SimError::Solver(e));
         }
         let span = t_end - t0;
@@ -724,6 +732,7 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
         }
         out.extend_from_slice(&[inp.x_top_ref, inp.x_bottom_ref]);
         out.extend(self.integrals.iter().chain(&self.means).chain(&self.sides));
+        out.extend(&self.own_steps);
         out
     }
 
@@ -733,7 +742,10 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
         let dim = PER_SECTION * n;
         let radau_len = BandRadau::saved_len(dim);
         let tracks = 2 * n + self.model.inputs.f_n.len() + 2;
-        if data.len() != radau_len + 3 * tracks + 2 + 2 * (n + 2) + n {
+        // Saved before the sections' own steps were kept: without them (each refinement then
+        // starts afresh).
+        let before_own = radau_len + 3 * tracks + 2 + 2 * (n + 2) + n;
+        if data.len() != before_own && data.len() != before_own + n {
             return Err(bad("has the wrong length for this string"));
         }
         if data.iter().any(|x| !x.is_finite()) {
@@ -760,13 +772,22 @@ impl<L: FrictionLaw> StringSimulator for StringSim<L> {
         let rest = &data[radau_len + 3 * tracks..];
         inputs.x_top_ref = rest[0];
         inputs.x_bottom_ref = rest[1];
-        let sides = &rest[2 + 2 * (n + 2)..];
+        let sides = &rest[2 + 2 * (n + 2)..2 + 2 * (n + 2) + n];
+        let own_steps = &rest[2 + 2 * (n + 2) + n..];
+        if own_steps.iter().any(|h| *h < 0.0) {
+            return Err(bad("holds a section's own step that is negative"));
+        }
         if sides.iter().any(|x| ![-1.0, 0.0, 1.0].contains(x)) {
             return Err(bad(
                 "holds an event indicator's side that is not -1, 0 or 1",
             ));
         }
         self.sides = sides.to_vec();
+        self.own_steps = if own_steps.is_empty() {
+            vec![0.0; n]
+        } else {
+            own_steps.to_vec()
+        };
         self.integrals = rest[2..2 + n + 2].to_vec();
         self.means = rest[2 + n + 2..2 + 2 * (n + 2)].to_vec();
         self.model.inputs = inputs;

@@ -223,19 +223,21 @@ impl<L: FrictionLaw> OdeSystem<3> for SectionOde<'_, L> {
     }
 }
 
-/// A section integrated again: its state at the step's end and the integrals over the step of
-/// its friction force and its position.
+/// A section integrated again: its state at the step's end, the integrals over the step of
+/// its friction force and its position, and the step its integrator would take next.
 pub struct Refined {
     pub y: [f64; 3],
     pub friction: f64,
     pub position: f64,
     pub stats: crate::solver::SolverStats,
+    pub next_step: f64,
 }
 
 /// Integrates section `i` again from `t0` (state `y0`) to `t1` with its neighbours on the
 /// string's step (`stages`), to the internal tolerance `0.1·tol`, with the natural scales
 /// `scales` of its velocity and deformation (`[_, v, s]` per section, as the string's error
-/// scale at rest) and `x_scale` of its position (the string's at `y0`).
+/// scale at rest) and `x_scale` of its position (the string's at `y0`), starting with the step
+/// `own_step` its last refinement ended with (0: none yet).
 #[allow(clippy::too_many_arguments)]
 pub fn refine<L: FrictionLaw>(
     model: &StringModel<L>,
@@ -247,6 +249,7 @@ pub fn refine<L: FrictionLaw>(
     scales: &[f64],
     x_scale: f64,
     tol: f64,
+    own_step: f64,
     work: &mut Workspace,
 ) -> Result<Refined, SolverError> {
     let n = model.n();
@@ -298,14 +301,20 @@ pub fn refine<L: FrictionLaw>(
         },
     };
     // RADAU5 holds `0.1·tol'^(2/3)`: `tol' = tol^1.5` gives the string's `0.1·tol`.
-    // It is integrated again because the string's step was too long for it: a quarter of it
-    // first.
+    // It is integrated again because the string's step was too long for it: it starts where
+    // its last refinement left off (a section at a reversal is refined over several of the
+    // string's steps), at most the whole step; a quarter of it the first time.
+    let first = if own_step > 0.0 {
+        own_step.min(t1 - t0)
+    } else {
+        0.25 * (t1 - t0)
+    };
     let mut r = Radau5::new(
         t0,
         SVector::from([0.0, y0[k + 1], y0[k + 2]]),
         libm::pow(tol, 1.5),
     )
-    .first_step(0.25 * (t1 - t0));
+    .first_step(first);
     let mut q = [0.0; 2];
     r.integrate_with(work, &ode, t1, f64::INFINITY, |st| {
         q[0] += st.quad[0];
@@ -316,6 +325,7 @@ pub fn refine<L: FrictionLaw>(
         friction: q[0],
         position: y0[k] * (t1 - t0) + q[1],
         stats: r.stats,
+        next_step: r.proposed_step(),
     })
 }
 

@@ -133,6 +133,11 @@ impl<const N: usize> Radau5<N> {
         self.tol
     }
 
+    /// The step the integrator would try next (0 before it has chosen one).
+    pub fn proposed_step(&self) -> f64 {
+        self.h
+    }
+
     /// The step to try first, where the caller knows one better than the integrator's own
     /// guess from the first derivative.
     pub fn first_step(mut self, h: f64) -> Self {
