@@ -87,6 +87,44 @@ class Opened:
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
+# A 10 m section of 5-inch drill pipe on the borehole wall (LuGre, F_S = 1.3·mu·F_N at its load),
+# and the links and ends of scenes/drill-string.toml.
+DRILL_PIPE = {"m": 267.0, "F_N": 2280.0, "mu": 0.3, "F_S": 889.2, "k_t": 1e8, "k_s": 7.1e7,
+              "c_s": 2e3, "k_top": 1e6, "c_top": 1e4, "k_bottom": 1e7, "c_bottom": 1e4}
+
+
+def drill_string_scene(identifier, description, sections, **start):
+    """A string scene of `sections` drill-pipe sections (DRILL_PIPE, with `start` over it: a
+    number, or a list of one per element) on LuGre wall contacts, force drive, the normal force
+    and the wall's velocity as inputs."""
+    values = "\n".join(f"{k} = {v!r}" for k, v in {**DRILL_PIPE, **start}.items())
+    return f"""model_identifier = "{identifier}"
+description = "{description}"
+law = "lugre"
+motion = "longitudinal"
+drive = "force"
+normal = "input"
+support = ["input"]
+
+[string]
+sections = {sections}
+
+[start]
+{values}
+"""
+
+
+def export_scene(directory, text):
+    """Exports the scene `text` (written to directory/scene.toml) for linux64; returns the
+    paths of its FMI 2.0 and 3.0 FMUs by edition ("fmi2", "fmi3")."""
+    (directory / "scene.toml").write_text(text)
+    subprocess.run([str(vibrofric_exe()), "export", "scene.toml", "--out", ".", "--platforms",
+                    "linux64"], cwd=directory, check=True, capture_output=True, text=True)
+    identifier = text.split('"')[1]
+    return {"fmi2": str(directory / f"{identifier}.fmu"),
+            "fmi3": str(directory / "fmi3" / f"{identifier}.fmu")}
+
+
 def real_p(array):
     """A numpy float64 array as a `double*` for the FMI functions that take vectors."""
     import ctypes

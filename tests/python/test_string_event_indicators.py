@@ -29,42 +29,17 @@ band past 0.
 """
 
 import math
-import subprocess
 
 import numpy as np
 import pytest
 
-from conftest import Exchange, vibrofric_exe
+from conftest import DRILL_PIPE, Exchange, drill_string_scene, export_scene
 
 N = 5
 TOL = 1e-6
-MU, F_N, K_T = 0.3, 2280.0, 1e8
+MU, F_N, K_T = (DRILL_PIPE[k] for k in ("mu", "F_N", "k_t"))
 M = [267.0, 120.0, 400.0, 267.0, 90.0]
 F_S = [889.2, 700.0, 1000.0, 889.2, 950.0]
-SCENE = f"""model_identifier = "IndicatorString"
-description = "Five drill-pipe sections of different masses and static forces on LuGre wall contacts"
-law = "lugre"
-motion = "longitudinal"
-drive = "force"
-normal = "input"
-support = ["input"]
-
-[string]
-sections = {N}
-
-[start]
-m = {M}
-F_N = {F_N}
-mu = {MU}
-F_S = {F_S}
-k_t = {K_T}
-k_s = 7.1e7
-c_s = 2e3
-k_top = 1e6
-c_top = 1e4
-k_bottom = 1e7
-c_bottom = 1e4
-"""
 # Each section's band from its parameters: tol·max(F_C, F_S)/k_t·sqrt(k_t/m).
 BAND = np.array([TOL * max(MU * F_N, fs) / K_T * math.sqrt(K_T / m) for m, fs in zip(M, F_S)])
 # The walls' velocities, of both signs and very different sizes (m/s).
@@ -73,11 +48,8 @@ V_SX = [0.3, -0.2, 1e-3, 0.0, -0.05]
 
 @pytest.fixture(scope="module")
 def fmus(tmp_path_factory):
-    d = tmp_path_factory.mktemp("string_indicators")
-    (d / "scene.toml").write_text(SCENE)
-    subprocess.run([str(vibrofric_exe()), "export", "scene.toml", "--out", ".", "--platforms",
-                    "linux64"], cwd=d, check=True, capture_output=True, text=True)
-    return {"fmi2": str(d / "IndicatorString.fmu"), "fmi3": str(d / "fmi3" / "IndicatorString.fmu")}
+    scene = drill_string_scene("IndicatorString", "Five drill-pipe sections of different masses and static forces", N, m=M, F_S=F_S)
+    return export_scene(tmp_path_factory.mktemp("string_indicators"), scene)
 
 
 def v_x(x):

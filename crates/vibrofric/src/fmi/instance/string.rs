@@ -535,6 +535,16 @@ mod tests {
             let c = f.call();
             i.answer(c, |i| body(i, c))
         };
+        // Reset, then through initialization with the values as they are.
+        let reset_and_initialize = |i: &mut Instance| {
+            run(i, F2::Reset, &mut |i, c| i.reset(c));
+            run(i, F2::EnterInitializationMode, &mut |i, c| {
+                i.enter_initialization(c)
+            });
+            run(i, F2::ExitInitializationMode, &mut |i, c| {
+                i.exit_initialization(c)
+            });
+        };
         // m[2] = -1 refused, m[1] of the same call not written.
         let s = run(&mut i, F2::SetReal, &mut |i, c| {
             i.set_values(c, &[1_000_001, 1_000_002], &[5.0, -1.0])
@@ -570,13 +580,7 @@ mod tests {
             "{}",
             last(&log)
         );
-        run(&mut i, F2::Reset, &mut |i, c| i.reset(c));
-        run(&mut i, F2::EnterInitializationMode, &mut |i, c| {
-            i.enter_initialization(c)
-        });
-        run(&mut i, F2::ExitInitializationMode, &mut |i, c| {
-            i.exit_initialization(c)
-        });
+        reset_and_initialize(&mut i);
         assert_eq!(
             run(&mut i, F2::SetReal, &mut |i, c| i.set_values(
                 c,
@@ -586,13 +590,7 @@ mod tests {
             Status::Error
         );
         assert!(last(&log).contains("variability fixed"), "{}", last(&log));
-        run(&mut i, F2::Reset, &mut |i, c| i.reset(c));
-        run(&mut i, F2::EnterInitializationMode, &mut |i, c| {
-            i.enter_initialization(c)
-        });
-        run(&mut i, F2::ExitInitializationMode, &mut |i, c| {
-            i.exit_initialization(c)
-        });
+        reset_and_initialize(&mut i);
         // Pushed at section 3 for a step: it moves, F_d[3] reads back.
         assert_eq!(
             run(&mut i, F2::SetReal, &mut |i, c| i.set_values(
