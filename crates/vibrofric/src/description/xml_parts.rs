@@ -244,6 +244,9 @@ pub fn write_head(w: &mut W, h: &Head) -> std::io::Result<()> {
     write_default_experiment(w)
 }
 
+/// An element's attributes, (name, value) in order.
+type Attributes<'a> = Vec<(&'a str, &'a str)>;
+
 /// `ModelExchange` (with exact directional derivatives) and `CoSimulation`.
 fn write_interfaces(w: &mut W, h: &Head) -> std::io::Result<()> {
     let id = h.model_identifier;
@@ -253,7 +256,7 @@ fn write_interfaces(w: &mut W, h: &Head) -> std::io::Result<()> {
     } else {
         "false"
     };
-    let (exchange, co_simulation): (Vec<(&str, &str)>, Vec<(&str, &str)>) = match h.edition {
+    let (exchange, co_simulation): (Attributes, Attributes) = match h.edition {
         Edition::Fmi2 => (
             vec![
                 ("modelIdentifier", id),
