@@ -12,12 +12,17 @@
 //! the current point `t_k` to `t_k + (t_{k+1} − t_k)` and the last one ends at `T`. Output: a
 //! header `time,<outputs of the scene>` and one row per communication point, numbers in
 //! shortest round-trip form, so that a reader gets the core's values bit for bit.
+//!
+//! A string scene (`[string]`) runs the string of its FMU: its outputs as columns, an array as
+//! `x[1]` … `x[N]` (the FMI 2.0 names, in the model description's order); `--set` takes a
+//! string variable's every element (`F_d=…`), one element (`F_d[3]=…`) or a shared law
+//! parameter (`k_t=…`).
 
 use std::path::PathBuf;
 
 use vibrofric::description::{xml, Scene};
 use vibrofric::model::{self, InputId};
-use vibrofric::table::ParamId;
+use vibrofric::table::{shared_params, Config, ParamId, Params, Role, StringValues, StringVar};
 
 /// What the command line asks for.
 #[derive(Clone, Debug, PartialEq, clap::Args)]
@@ -87,21 +92,125 @@ pub fn simulate(scene: &Scene, o: &Options) -> Result<String, String> {
         .tolerance(o.tolerance)
         .build();
     let mut sim = sim.map_err(|e| e.to_string())?;
+    let header: Vec<String> = scene.outputs.iter().map(|id| id.name().into()).collect();
+    communicate(o, &header, sim.as_mut(), |sim| {
+        let y = sim.outputs();
+        scene.outputs.iter().map(|id| id.get(&y)).collect()
+    })
+}
+
+/// Runs a string scene and returns the CSV: a column per element of each output in the
+/// order of the FMI 2.0 model description (`x[1]` … `x[N]`, `F_top`, ...).
+pub fn simulate_string(scene: &Scene, o: &Options) -> Result<String, String> {
+    let c = scene.config;
+    let start = scene.string.as_ref().ok_or("not a string scene")?;
+    let n = start.sections;
+    let (mut shared, mut values) = (scene.start, start.clone());
+    for (name, v) in &o.set {
+        set_string(&c, (&mut shared, &mut values), name, *v)?;
+    }
+    let time = (o.start, o.tolerance);
+    let mut sim = model::string::build_from_values(&c, shared, &values, start, time, false)
+        .map_err(|e| e.to_string())?;
+    let outputs: Vec<StringVar> = StringVar::ALL
+        .into_iter()
+        .filter(|v| v.present(&c, n) && v.role(&c) == Role::Output)
+        .collect();
+    let header: Vec<String> = outputs
+        .iter()
+        .flat_map(|v| (0..v.len(n)).map(|i| v.element_name(i)))
+        .collect();
+    communicate(o, &header, sim.as_mut(), |sim| {
+        let y = sim.outputs();
+        outputs.iter().flat_map(|v| y.values(*v).to_vec()).collect()
+    })
+}
+
+/// `--set NAME=VALUE` on a string: every element of a string variable (`F_d`), one element
+/// (`F_d[3]`, 1-based), or a shared law parameter (`k_t`).
+fn set_string(
+    c: &Config,
+    (shared, values): (&mut Params, &mut StringValues),
+    name: &str,
+    v: f64,
+) -> Result<(), String> {
+    let (base, element) = match name.strip_suffix(']').and_then(|s| s.split_once('[')) {
+        Some((base, i)) => {
+            let i = i.parse::<usize>().ok().filter(|&i| i >= 1);
+            let i = i.ok_or(format!("--set {name}: an element is counted from 1"))?;
+            (base, Some(i))
+        }
+        None => (name, None),
+    };
+    let n = values.sections;
+    let var = StringVar::from_name(base).filter(|var| var.present(c, n) && var.settable(c));
+    match (var, element) {
+        (Some(var), None) => values.get_mut(var).fill(v),
+        (Some(var), Some(i)) => match values.get_mut(var).get_mut(i - 1) {
+            Some(x) => *x = v,
+            None => {
+                let len = var.len(n);
+                return Err(format!("--set {name}: {base} has {len} elements"));
+            }
+        },
+        (None, None) => match ParamId::from_name(name) {
+            Some(p) if shared_params(c).any(|q| q == p) => {
+                p.set(shared, v).map_err(|e| e.to_string())?
+            }
+            _ => {
+                return Err(format!(
+                    "--set {name}: not a parameter or input of this string"
+                ))
+            }
+        },
+        (None, Some(_)) => {
+            return Err(format!(
+                "--set {name}: {base} is not a parameter or input of this string"
+            ))
+        }
+    }
+    Ok(())
+}
+
+/// A simulator an FMI master steps: a single contact's or a string's.
+trait Stepped {
+    fn advance(&mut self, t: f64) -> Result<(), String>;
+}
+
+impl Stepped for dyn model::Simulator {
+    fn advance(&mut self, t: f64) -> Result<(), String> {
+        self.step_to(t).map_err(|e| e.to_string())
+    }
+}
+
+impl Stepped for dyn model::string::StringSimulator {
+    fn advance(&mut self, t: f64) -> Result<(), String> {
+        self.step_to(t).map_err(|e| e.to_string())
+    }
+}
+
+/// The run of an FMI master over the communication points of `o`: a CSV header `time` and
+/// `header`, and a row of `outputs` at the start and after each step to the next point.
+fn communicate<S: Stepped + ?Sized>(
+    o: &Options,
+    header: &[String],
+    sim: &mut S,
+    outputs: impl Fn(&S) -> Vec<f64>,
+) -> Result<String, String> {
     let mut out = String::from("time");
-    for id in &scene.outputs {
+    for name in header {
         out.push(',');
-        out.push_str(id.name());
+        out.push_str(name);
     }
     out.push('\n');
-    let row = |out: &mut String, t: f64, sim: &dyn model::Simulator| {
-        let y = sim.outputs();
+    let row = |out: &mut String, t: f64, sim: &S| {
         out.push_str(&format!("{t:e}"));
-        for id in &scene.outputs {
-            out.push_str(&format!(",{:e}", id.get(&y)));
+        for y in outputs(sim) {
+            out.push_str(&format!(",{y:e}"));
         }
         out.push('\n');
     };
-    row(&mut out, o.start, sim.as_ref());
+    row(&mut out, o.start, sim);
     let mut t = o.start;
     let mut k: u64 = 0;
     loop {
@@ -115,10 +224,10 @@ pub fn simulate(scene: &Scene, o: &Options) -> Result<String, String> {
             next = o.stop;
         }
         let h = next - t;
-        sim.step_to(t + h).map_err(|e| format!("at t = {t}: {e}"))?;
+        sim.advance(t + h).map_err(|e| format!("at t = {t}: {e}"))?;
         t = next;
         k += 1;
-        row(&mut out, t, sim.as_ref());
+        row(&mut out, t, sim);
     }
     Ok(out)
 }
@@ -132,13 +241,10 @@ pub fn run(o: &Options) -> Result<String, String> {
         ));
     }
     let scene = Scene::load(&o.scene).map_err(|e| e.to_string())?;
-    if let Some(n) = scene.sections() {
-        return Err(format!(
-            "{}: a string of {n} contacts; `simulate` runs a single contact: export the string and run its FMU",
-            o.scene.display()
-        ));
+    match scene.string {
+        Some(_) => simulate_string(&scene, o),
+        None => simulate(&scene, o),
     }
-    simulate(&scene, o)
 }
 
 #[cfg(test)]
@@ -189,5 +295,37 @@ mod tests {
         assert!(lines[4].starts_with("2.5e-3,"));
         let bad = parse("c.toml --step 1e-3 --stop 1 --set k_t=-1").unwrap();
         assert!(simulate(&scene, &bad).unwrap_err().contains("k_t"));
+    }
+
+    #[test]
+    fn a_string_runs_with_a_column_per_element_and_sets_elements() {
+        let text = "model_identifier = \"S\"\nlaw = \"dahl\"\nmotion = \"longitudinal\"\ndrive = \"force\"\nsupport = [\"input\"]\n[string]\nsections = 3\n[start]\nk_s = 1e5\nk_top = 1e4\n";
+        let scene = Scene::parse(text, "s.toml").unwrap();
+        let o = parse("s.toml --step 1e-3 --stop 2e-3 --set F_d[2]=8 --set k_t=2e8").unwrap();
+        let csv = simulate_string(&scene, &o).unwrap();
+        let lines: Vec<&str> = csv.lines().collect();
+        let header: Vec<&str> = lines[0].split(',').collect();
+        assert_eq!(
+            &header[..5],
+            ["time", "F_Fx[1]", "F_Fx[2]", "F_Fx[3]", "x[1]"]
+        );
+        assert!(header.contains(&"F_link[2]") && !header.contains(&"F_link[3]"));
+        assert_eq!(header.last(), Some(&"F_bottom_step"));
+        assert_eq!(lines.len(), 1 + 3, "t = 0, 1, 2 ms");
+        // Only section 2 is pushed: it leads, its neighbours follow through the links.
+        let last: Vec<f64> = lines[3].split(',').map(|x| x.parse().unwrap()).collect();
+        let x = |i: usize| last[header.iter().position(|h| *h == format!("x[{i}]")).unwrap()];
+        assert!(x(2) > x(1) && x(2) > x(3) && x(1) > 0.0, "{lines:?}");
+        for (set, words) in [
+            ("F_d[4]=1", "F_d has 3 elements"),
+            ("F_d[0]=1", "counted from 1"),
+            ("x=1", "not a parameter or input"),
+            ("T_avg=1", "not a parameter or input"),
+            ("m[2]=-1", "m[2] = -1"),
+        ] {
+            let o = parse(&format!("s.toml --step 1e-3 --stop 2e-3 --set {set}")).unwrap();
+            let e = simulate_string(&scene, &o).unwrap_err();
+            assert!(e.contains(words), "{set}: {e}");
+        }
     }
 }

@@ -12,12 +12,14 @@ its kind where the output stays near 0)."""
 
 import numpy as np
 import pytest
-from conftest import DIST, Opened, fmu_path
+from conftest import DIST, Exchange, fmu_path, real_p
 from fmpy import read_model_description, simulate_fmu
 from fmpy.fmi2 import fmi2EventInfo
 
 RTOL = 1e-8
 BOUND = 2000 * RTOL
+
+
 def _offers_model_exchange(p):
     # The single contacts; a string of contacts (DrillString) has its own Model Exchange tests
     # (test_string_model_exchange.py), its variables being arrays.
@@ -132,61 +134,16 @@ def test_stuck_drill_string_held_released_held():
     assert len(windows) >= 3000 and others <= 20, (len(windows), others)
 
 
-class Model:
+def Model(name, start=None, version=2):
     """A Model Exchange instance of an FMU (FMI 2.0, or the FMI 3.0 edition with version=3), in
     continuous-time mode at t = 0."""
-
-    def __init__(self, name, start=None, version=2):
-        self.version = version
-        path = fmu_path(name) if version == 2 else str(DIST / "fmi3" / f"{name}.fmu")
-        self.opened = Opened(path)
-        self.md = self.opened.md
-        self.fmu = self.opened.instance(name, model_exchange=True)
-        self.vr = self.opened.vr
-        self.states = [d.variable.derivative.name for d in self.md.derivatives]
-        self.derivatives = [d.variable.name for d in self.md.derivatives]
-        self.nx = len(self.states)
-        f = self.fmu
-        if version == 2:
-            f.setupExperiment(tolerance=RTOL, startTime=0.0)
-            f.enterInitializationMode()
-        else:
-            f.enterInitializationMode(tolerance=RTOL, startTime=0.0)
-        for k, v in (start or {}).items():
-            (f.setReal if version == 2 else f.setFloat64)([self.vr[k]], [v])
-        f.exitInitializationMode()
-        (f.newDiscreteStates if version == 2 else f.updateDiscreteStates)()
-        f.enterContinuousTimeMode()
-
-    def get_states(self):
-        x = np.zeros(self.nx)
-        self.fmu.getContinuousStates(x.ctypes.data_as(_real_p()), self.nx)
-        return x
-
-    def set_states(self, x):
-        x = np.ascontiguousarray(x, dtype=np.float64)
-        return self.fmu.setContinuousStates(x.ctypes.data_as(_real_p()), len(x))
-
-    def derivatives_at(self, x):
-        self.set_states(x)
-        dx = np.zeros(self.nx)
-        get = self.fmu.getDerivatives if self.version == 2 else self.fmu.getContinuousStateDerivatives
-        get(dx.ctypes.data_as(_real_p()), self.nx)
-        return dx
-
-    def close(self):
-        self.opened.close()
+    path = fmu_path(name) if version == 2 else str(DIST / "fmi3" / f"{name}.fmu")
+    return Exchange(path, RTOL, start, name=name)
 
 
 def Model3(name):
     """The FMI 3.0 edition's Model Exchange instance."""
     return Model(name, version=3)
-
-
-def _real_p():
-    import ctypes
-
-    return ctypes.POINTER(ctypes.c_double)
 
 
 @pytest.mark.parametrize("name", ["VibratingContact", "VibratingContactDupont", "VibratingContactLuGre", "RigLongitudinal", "DrillStringContact"])
@@ -203,7 +160,7 @@ def test_directional_derivatives_match_differences_of_the_derivatives(name):
         for k in inputs:
             f.setReal([m.vr[k]], [{"F_N": 40.0 / 55.0 * f_n0, "F_d": 3.0, "v_d": 1.2e-3}.get(k, 2e-4)])
         nominal = np.zeros(m.nx)
-        f.getNominalsOfContinuousStates(nominal.ctypes.data_as(_real_p()), m.nx)
+        f.getNominalsOfContinuousStates(real_p(nominal), m.nx)
         x = nominal * np.array([0.4, -0.3, 0.7, 0.2, -0.5, 0.6, 0.1][: m.nx])
         m.set_states(x)
         unknowns = [m.vr[d] for d in m.derivatives]
@@ -255,7 +212,7 @@ def test_bad_input_is_refused_naming_the_rule_and_changes_nothing(capfd):
         # The wrong number of states.
         with pytest.raises(Exception, match="status 3"):
             z = np.zeros(m.nx + 1)
-            f.setContinuousStates(z.ctypes.data_as(_real_p()), m.nx + 1)
+            f.setContinuousStates(real_p(z), m.nx + 1)
         out = capfd.readouterr().out
         assert f"nx = {m.nx + 1}" in out and f"has {m.nx} continuous states" in out, out
     finally:

@@ -13,53 +13,23 @@ FMI 2.0 (scalars `x[i]`, `der(x[i])`) and FMI 3.0 (arrays `x`, `der(x)`).
 - a state saved in Model Exchange continues bit for bit; a bad state or input is refused,
   naming its index."""
 
-import subprocess
-
 import numpy as np
 import pytest
 from fmpy import read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
 
-from conftest import Opened, vibrofric_exe
+from conftest import Exchange, drill_string_scene, export_scene, real_p
 
 N = 5
 RTOL = 1e-8
 BOUND = 2000 * RTOL
-SCENE = f"""model_identifier = "SmallString"
-description = "Five sections of the drill string (LuGre on the wall, top feed, bottom on the rock)"
-law = "lugre"
-motion = "longitudinal"
-drive = "force"
-normal = "input"
-support = ["input"]
-
-[string]
-sections = {N}
-
-[start]
-m = 267.0
-F_N = 2280.0
-mu = 0.3
-F_S = 889.2
-k_t = 1e8
-k_s = 7.1e7
-c_s = 2e3
-k_top = 1e6
-c_top = 1e4
-k_bottom = 1e7
-c_bottom = 1e4
-"""
 STEP_MEANS = {"F_Fx_step", "F_top_step", "F_bottom_step"}  # Co-Simulation's; ME: the forces
 
 
 @pytest.fixture(scope="module")
 def fmus(tmp_path_factory):
-    d = tmp_path_factory.mktemp("string_me")
-    (d / "scene.toml").write_text(SCENE)
-    subprocess.run([str(vibrofric_exe()), "export", "scene.toml", "--out", ".", "--platforms",
-                    "linux64"], cwd=d,
-                   check=True, capture_output=True, text=True)
-    return {"fmi2": str(d / "SmallString.fmu"), "fmi3": str(d / "fmi3" / "SmallString.fmu")}
+    scene = drill_string_scene("SmallString", "Five sections of the drill string (LuGre on the wall, top feed, bottom on the rock)", N)
+    return export_scene(tmp_path_factory.mktemp("string_me"), scene)
 
 
 def base(name):
@@ -131,13 +101,7 @@ def test_fmi3_model_exchange_equals_fmi2(fmus):
         assert np.array_equal(a[name], b[name])
 
 
-def _real_p():
-    import ctypes
-
-    return ctypes.POINTER(ctypes.c_double)
-
-
-class Model:
+class Model(Exchange):
     """A Model Exchange instance of either edition in continuous-time mode, the top fed at
     0.5 m/s, the wall moving and a push on every section, at states near the trajectory 2 ms
     in (explicit Euler from rest in steps of 1 us), so that every section moves and is
@@ -146,76 +110,17 @@ class Model:
     INPUTS = {"v_top": 0.5, "v_bottom": 1e-3}
 
     def __init__(self, path):
-        self.o = Opened(path)
-        self.fmi3 = self.o.fmi3
-        self.vr = self.o.vr
-        self.fmu = f = self.o.instance("me", model_exchange=True)
-        self.nx = 3 * N + 2
-        if self.fmi3:
-            f.enterInitializationMode(tolerance=RTOL, startTime=0.0)
-        else:
-            f.setupExperiment(tolerance=RTOL, startTime=0.0)
-            f.enterInitializationMode()
-        for k, v in self.INPUTS.items():
-            self.set(k, v)
+        start = dict(self.INPUTS)
         for k in range(1, N + 1):
-            self.set(f"F_d[{k}]", 1e3 * k)
-            self.set(f"v_sx[{k}]", 1e-3 * (k - 3))
-            self.set(f"F_N[{k}]", 2000.0 + 100.0 * k)
-        f.exitInitializationMode()
-        (f.updateDiscreteStates if self.fmi3 else f.newDiscreteStates)()
-        f.enterContinuousTimeMode()
+            start.update({f"F_d[{k}]": 1e3 * k, f"v_sx[{k}]": 1e-3 * (k - 3),
+                          f"F_N[{k}]": 2000.0 + 100.0 * k})
+        super().__init__(path, RTOL, start)
         x = self.get_states()
         for k in range(2000):
-            f.setTime(k * 1e-6)
+            self.fmu.setTime(k * 1e-6)
             x = x + 1e-6 * self.derivatives_at(x)
-        f.setTime(2e-3)
+        self.fmu.setTime(2e-3)
         self.set_states(x)
-
-    def ref(self, name):
-        """The value reference and element (0-based, FMI 3.0) of `name[i]`, or of a scalar."""
-        if self.fmi3 and name.startswith("der(") and "[" in name:
-            b, i = name[4:-2].split("[")  # der(v_x[2]) is element 2 of der(v_x)
-            return self.vr[f"der({b})"], int(i) - 1
-        if self.fmi3 and "[" in name:
-            b, i = name[:-1].split("[")
-            return self.vr[b], int(i) - 1
-        return self.vr[name], None
-
-    def set(self, name, value):
-        vr, i = self.ref(name)
-        if i is None:
-            (self.fmu.setFloat64 if self.fmi3 else self.fmu.setReal)([vr], [value])
-        else:
-            values = list(self.fmu.getFloat64([vr], nValues=N))
-            values[i] = value
-            self.fmu.setFloat64([vr], values)
-
-    def get(self, name):
-        vr, i = self.ref(name)
-        if self.fmi3:
-            size = 1 if i is None else N - 1 if name.startswith("F_link") else N
-            return self.fmu.getFloat64([vr], nValues=size)[i or 0]
-        return self.fmu.getReal([vr])[0]
-
-    def get_states(self):
-        x = np.zeros(self.nx)
-        self.fmu.getContinuousStates(x.ctypes.data_as(_real_p()), self.nx)
-        return x
-
-    def set_states(self, x):
-        x = np.ascontiguousarray(x, dtype=np.float64)
-        self.fmu.setContinuousStates(x.ctypes.data_as(_real_p()), len(x))
-
-    def derivatives_at(self, x):
-        self.set_states(x)
-        dx = np.zeros(self.nx)
-        get = self.fmu.getContinuousStateDerivatives if self.fmi3 else self.fmu.getDerivatives
-        get(dx.ctypes.data_as(_real_p()), self.nx)
-        return dx
-
-    def close(self):
-        self.o.close()
 
 
 STATES = [f"{v}[{i}]" for v in ["x", "v_x", "s_x"] for i in range(1, N + 1)] + ["x_top", "x_bottom"]
@@ -232,7 +137,7 @@ def test_directional_derivatives_match_central_differences(fmus):
         x = m.get_states()
         assert np.array_equal(x, m3.get_states())
         nominal = np.zeros(m.nx)
-        f.getNominalsOfContinuousStates(nominal.ctypes.data_as(_real_p()), m.nx)
+        f.getNominalsOfContinuousStates(real_p(nominal), m.nx)
         unknowns = [m.vr[f"der({s})"] for s in STATES]
         unknowns3 = [m3.vr[d] for d in ["der(x)", "der(v_x)", "der(s_x)", "der(x_top)", "der(x_bottom)"]]
         worst = 0.0

@@ -12,20 +12,17 @@
 //!   (version 8, "custom") in braces: it changes with anything the document says (scene,
 //!   variables, start values, generator version) and with nothing else.
 
-use std::io::Write;
-
-use quick_xml::events::{BytesDecl, Event};
-use quick_xml::Writer;
 use sha2::{Digest, Sha256};
 
 use crate::description::scene::Scene;
 use crate::description::variables::{Causality, Initial, VarKind, Variable};
-use crate::description::xml_parts::{close, empty, joined, open};
+use crate::description::xml_parts::write_variable;
+use crate::description::xml_parts::{close, document, open, write_head, write_structure};
 pub use crate::description::xml_parts::{
     generation_tool, number, DEFAULT_EXPERIMENT, DISPLAY_UNITS, W,
 };
-use crate::description::xml_parts::{write_default_experiment, write_log_categories, write_units};
-use crate::description::xml_string::{self, Edition};
+use crate::description::xml_parts::{Declared, Edition, Head, Structure, Unknown};
+use crate::description::xml_string;
 
 /// The FMI version written into `modelDescription.xml`.
 pub const FMI_VERSION: &str = "2.0";
@@ -72,192 +69,124 @@ fn write_document(scene: &Scene, guid: &str) -> String {
     if scene.string.is_some() {
         return xml_string::model_description(scene, Edition::Fmi2, guid);
     }
-    let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
-    write_into(&mut w, scene, guid).expect("writing XML into memory cannot fail");
-    let mut bytes = w.into_inner();
-    bytes.write_all(b"\n").expect("in memory");
-    String::from_utf8(bytes).expect("quick-xml writes UTF-8 from UTF-8 input")
+    document(|w| write_into(w, scene, guid))
 }
 
 fn write_into(w: &mut W, scene: &Scene, guid: &str) -> std::io::Result<()> {
-    let c = &scene.config;
     let vars: Vec<&'static Variable> = scene.variables().collect();
-    w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)))?;
-    let tool = generation_tool();
-    open(
-        w,
-        "fmiModelDescription",
-        &[
-            ("fmiVersion", FMI_VERSION),
-            ("modelName", &scene.model_identifier),
-            ("guid", guid),
-            ("description", &scene.description),
-            ("generationTool", &tool),
-            ("variableNamingConvention", "flat"),
-            ("numberOfEventIndicators", &c.event_indicators().to_string()),
-        ],
-    )?;
-
-    empty(
-        w,
-        "ModelExchange",
-        &[
-            ("modelIdentifier", &scene.model_identifier),
-            ("needsExecutionTool", "false"),
-            // Nothing happens at the end of an integrator step: no step events.
-            ("completedIntegratorStepNotNeeded", "true"),
-            ("canBeInstantiatedOnlyOncePerProcess", "false"),
-            ("canNotUseMemoryManagementFunctions", "true"),
-            ("canGetAndSetFMUstate", "true"),
-            ("canSerializeFMUstate", "true"),
-            ("providesDirectionalDerivative", "true"),
-        ],
-    )?;
-    let interpolate = vars.iter().any(|v| v.causality(c) == Causality::Input);
-    empty(
-        w,
-        "CoSimulation",
-        &[
-            ("modelIdentifier", &scene.model_identifier),
-            ("needsExecutionTool", "false"),
-            ("canHandleVariableCommunicationStepSize", "true"),
-            (
-                "canInterpolateInputs",
-                if interpolate { "true" } else { "false" },
-            ),
-            ("maxOutputDerivativeOrder", "1"),
-            ("canRunAsynchronuously", "false"),
-            ("canBeInstantiatedOnlyOncePerProcess", "false"),
-            ("canNotUseMemoryManagementFunctions", "true"),
-            ("canGetAndSetFMUstate", "true"),
-            ("canSerializeFMUstate", "true"),
-            ("providesDirectionalDerivative", "false"),
-        ],
-    )?;
-
-    let units: Vec<&str> = vars.iter().map(|v| v.unit).collect();
-    write_units(w, &units)?;
-    write_log_categories(w)?;
-    write_default_experiment(w)?;
-
-    write_variables(w, scene, &vars)?;
-    write_structure(w, scene, &vars)?;
-
+    write_head(w, &head(scene, Edition::Fmi2, guid))?;
+    open(w, "ModelVariables", &[])?;
+    for (i, v) in vars.iter().enumerate() {
+        // A derivative names its state by the state's 1-based index.
+        let derivative = v
+            .derivative_of()
+            .and_then(|x| indices(&vars, &[x.vr()]).first().map(|i| i.to_string()));
+        write_variable(w, Edition::Fmi2, &declared(scene, v, i + 1, derivative))?;
+    }
+    close(w, "ModelVariables")?;
+    write_structure(w, Edition::Fmi2, &structure(scene, &vars))?;
     close(w, "fmiModelDescription")
 }
 
-/// `ModelVariables`: each `ScalarVariable` with its index as a comment, its `Real` with unit,
-/// range and start.
-fn write_variables(w: &mut W, scene: &Scene, vars: &[&'static Variable]) -> std::io::Result<()> {
+/// A single contact's variable, the `index`-th, as the model description declares it.
+pub(super) fn declared<'a>(
+    scene: &Scene,
+    v: &'a Variable,
+    index: usize,
+    derivative: Option<String>,
+) -> Declared<'a> {
     let c = &scene.config;
-    open(w, "ModelVariables", &[])?;
-    for (i, v) in vars.iter().enumerate() {
-        w.write_event(Event::Comment(quick_xml::events::BytesText::new(&format!(
-            " index {} ",
-            i + 1
-        ))))?;
-        let vr = v.vr.to_string();
-        let mut attrs: Vec<(&str, &str)> = vec![
-            ("name", v.name()),
-            ("valueReference", &vr),
-            ("description", v.description),
-            ("causality", v.causality(c).as_str()),
-            ("variability", v.variability(c).as_str()),
-        ];
-        let initial = v.initial(c);
-        if let Some(init) = initial {
-            attrs.push(("initial", init.as_str()));
-        }
-        open(w, "ScalarVariable", &attrs)?;
-        let start = match initial {
-            Some(Initial::Calculated) => None,
-            _ => scene.start_of(v),
-        };
-        // The accepted range of what the importer sets (not of F_d as a spring drive's output).
-        let settable = v.causality(c) != Causality::Output;
-        let (min, max) = if settable {
-            (v.min(c), v.max(c))
-        } else {
-            (None, None)
-        };
-        let nums: Vec<(&str, String)> = [("start", start), ("min", min), ("max", max)]
-            .into_iter()
-            .filter_map(|(n, x)| x.map(|x| (n, number(x))))
-            .collect();
-        let mut real: Vec<(&str, &str)> = vec![("unit", v.unit)];
-        if let Some(d) = v.display_unit {
-            real.push(("displayUnit", d));
-        }
-        real.extend(nums.iter().map(|(n, x)| (*n, x.as_str())));
-        // A derivative names its state by the state's 1-based index.
-        let state_index = v
-            .derivative_of()
-            .and_then(|x| indices(vars, &[x.vr()]).first().map(|i| i.to_string()));
-        if let Some(i) = &state_index {
-            real.insert(0, ("derivative", i.as_str()));
-        }
-        empty(w, "Real", &real)?;
-        close(w, "ScalarVariable")?;
+    let initial = v.initial(c);
+    let start = match initial {
+        Some(Initial::Calculated) => None,
+        _ => scene.start_of(v),
+    };
+    // The accepted range of what the importer sets (not of F_d as a spring drive's output).
+    let settable = v.causality(c) != Causality::Output;
+    Declared {
+        name: v.name(),
+        vr: v.vr,
+        description: v.description,
+        causality: v.causality(c).as_str(),
+        variability: v.variability(c).as_str(),
+        initial: initial.map(|i| i.as_str()),
+        unit: v.unit,
+        display_unit: v.display_unit,
+        derivative,
+        start: start.map(number),
+        min: v.min(c).filter(|_| settable),
+        max: v.max(c).filter(|_| settable),
+        dimension: None,
+        index,
     }
-    close(w, "ModelVariables")?;
-    Ok(())
+}
+
+/// What a single contact's model description says before its variables, in `edition`.
+pub(super) fn head<'a>(scene: &'a Scene, edition: Edition, token: &'a str) -> Head<'a> {
+    let c = &scene.config;
+    let vars = scene.variables();
+    Head {
+        edition,
+        model_identifier: &scene.model_identifier,
+        description: &scene.description,
+        token,
+        event_indicators: c.event_indicators(),
+        // FMI 2.0 extrapolates the inputs with their derivatives.
+        can_interpolate_inputs: scene
+            .variables()
+            .any(|v| v.causality(c) == Causality::Input),
+        max_output_derivative_order: 1,
+        units: vars.map(|v| (v.unit, v.display_unit)).collect(),
+    }
 }
 
 /// `ModelStructure`: the outputs, the derivatives and the initial unknowns with their
 /// dependencies, by 1-based index.
-fn write_structure(w: &mut W, scene: &Scene, vars: &[&'static Variable]) -> std::io::Result<()> {
+fn structure(scene: &Scene, vars: &[&'static Variable]) -> Structure {
     let c = &scene.config;
-    open(w, "ModelStructure", &[])?;
+    let unknown = |(i, v): (usize, &&Variable)| Unknown {
+        id: i + 1,
+        dependencies: Some(indices(vars, &v.known_dependencies(c, &scene.outputs))),
+    };
     let outputs: Vec<(usize, &&Variable)> = vars
         .iter()
         .enumerate()
         .filter(|(_, v)| v.causality(c) == Causality::Output)
-        .map(|(i, v)| (i + 1, v))
         .collect();
-    open(w, "Outputs", &[])?;
-    for (index, v) in &outputs {
-        let vrs = v.known_dependencies(c, &scene.outputs);
-        let deps = joined(&indices(vars, &vrs));
-        let index = index.to_string();
-        empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
-    }
-    close(w, "Outputs")?;
-    // Model Exchange: the order of the derivatives is the order of the state vector.
-    let derivatives: Vec<(usize, &&Variable)> = vars
+    let mut initial_unknowns: Vec<Unknown> = outputs
         .iter()
-        .enumerate()
-        .filter(|(_, v)| v.derivative_of().is_some())
-        .map(|(i, v)| (i + 1, v))
+        .filter(|(_, v)| v.initial(c) == Some(Initial::Calculated))
+        .map(|(i, v)| {
+            let vrs: Vec<u32> = v.initial_dependencies(c).iter().map(|d| d.vr()).collect();
+            Unknown {
+                id: i + 1,
+                dependencies: Some(indices(vars, &vrs)),
+            }
+        })
         .collect();
-    open(w, "Derivatives", &[])?;
-    for (index, v) in &derivatives {
-        let vrs = v.known_dependencies(c, &scene.outputs);
-        let deps = joined(&indices(vars, &vrs));
-        let index = index.to_string();
-        empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
-    }
-    close(w, "Derivatives")?;
-    open(w, "InitialUnknowns", &[])?;
-    for (index, v) in &outputs {
-        if v.initial(c) != Some(Initial::Calculated) {
-            continue;
-        }
-        let vrs: Vec<u32> = v.initial_dependencies(c).iter().map(|d| d.vr()).collect();
-        let deps = joined(&indices(vars, &vrs));
-        let index = index.to_string();
-        empty(w, "Unknown", &[("index", &index), ("dependencies", &deps)])?;
-    }
     // The states start at 0 (the body at rest at the origin, undeformed); their derivatives
     // depend at the start on parameters and inputs (no `dependencies`: all of them).
-    for (i, v) in vars.iter().enumerate() {
-        let index = (i + 1).to_string();
-        match v.kind {
-            VarKind::State(_) => empty(w, "Unknown", &[("index", &index), ("dependencies", "")])?,
-            VarKind::Derivative(_) => empty(w, "Unknown", &[("index", &index)])?,
-            _ => {}
-        }
+    initial_unknowns.extend(vars.iter().enumerate().filter_map(|(i, v)| match v.kind {
+        VarKind::State(_) => Some(Unknown {
+            id: i + 1,
+            dependencies: Some(vec![]),
+        }),
+        VarKind::Derivative(_) => Some(Unknown {
+            id: i + 1,
+            dependencies: None,
+        }),
+        _ => None,
+    }));
+    Structure {
+        outputs: outputs.into_iter().map(unknown).collect(),
+        // Model Exchange: the order of the derivatives is the order of the state vector.
+        derivatives: vars
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.derivative_of().is_some())
+            .map(unknown)
+            .collect(),
+        initial_unknowns,
+        event_indicators: vec![],
     }
-    close(w, "InitialUnknowns")?;
-    close(w, "ModelStructure")?;
-    Ok(())
 }

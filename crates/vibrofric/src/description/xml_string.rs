@@ -6,26 +6,17 @@
 //!   `<Dimension start="N"/>` and its start values as a list.
 //!
 //! Every parameter of a string is fixed (set before initialization ends). A string offers
-//! Model Exchange and Co-Simulation ([`write_interfaces`]): the continuous states are the
+//! Model Exchange and Co-Simulation: the continuous states are the
 //! outputs `x`, `v_x`, `s_x` and the ends' points `x_top`, `x_bottom`, with derivatives
 //! `der(x)`, ... and one event indicator per section (`event.v_rx`).
 
-use std::io::Write;
-
-use quick_xml::events::{BytesDecl, BytesStart, Event};
-use quick_xml::Writer;
-
 use crate::description::scene::Scene;
-use crate::description::xml_parts::{close, empty, generation_tool, joined, number, open, W};
-use crate::description::xml_parts::{write_default_experiment, write_log_categories, write_units};
+use crate::description::xml_parts::{close, number, open, write_head, write_structure};
+use crate::description::xml_parts::{document, Unknown, W};
+use crate::description::xml_parts::{write_time, write_variable, Declared, Head, Structure};
 use crate::table::{Config, Role, StringDependency, StringVar};
 
-/// The FMI edition a model description is written for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Edition {
-    Fmi2,
-    Fmi3,
-}
+pub use crate::description::xml_parts::Edition;
 
 /// One variable as the model description declares it: a scalar, an element of an array (FMI
 /// 2.0) or a whole array (FMI 3.0, `dimension` its length).
@@ -213,151 +204,26 @@ fn causality(role: Role) -> &'static str {
 /// The model description of a string scene in `edition`, with this GUID (FMI 2.0) or
 /// instantiation token (FMI 3.0).
 pub fn model_description(scene: &Scene, edition: Edition, token: &str) -> String {
-    let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
-    write_into(&mut w, scene, edition, token).expect("writing XML into memory cannot fail");
-    let mut bytes = w.into_inner();
-    bytes.write_all(b"\n").expect("in memory");
-    String::from_utf8(bytes).expect("quick-xml writes UTF-8 from UTF-8 input")
-}
-
-/// The interfaces a string scene offers: Model Exchange (with exact directional derivatives
-/// from the string's banded Jacobian) and Co-Simulation.
-fn write_interfaces(w: &mut W, scene: &Scene, edition: Edition) -> std::io::Result<()> {
-    let id = scene.model_identifier.as_str();
-    let exchange: Vec<(&str, &str)> = match edition {
-        Edition::Fmi2 => vec![
-            ("modelIdentifier", id),
-            ("needsExecutionTool", "false"),
-            // Nothing happens at the end of an integrator step: no step events.
-            ("completedIntegratorStepNotNeeded", "true"),
-            ("canBeInstantiatedOnlyOncePerProcess", "false"),
-            ("canNotUseMemoryManagementFunctions", "true"),
-            ("canGetAndSetFMUstate", "true"),
-            ("canSerializeFMUstate", "true"),
-            ("providesDirectionalDerivative", "true"),
-        ],
-        Edition::Fmi3 => vec![
-            ("modelIdentifier", id),
-            ("needsExecutionTool", "false"),
-            ("canBeInstantiatedOnlyOncePerProcess", "false"),
-            ("canGetAndSetFMUState", "true"),
-            ("canSerializeFMUState", "true"),
-            ("providesDirectionalDerivatives", "true"),
-            ("providesAdjointDerivatives", "false"),
-            ("providesPerElementDependencies", "false"),
-            ("needsCompletedIntegratorStep", "false"),
-            ("providesEvaluateDiscreteStates", "false"),
-        ],
-    };
-    empty(w, "ModelExchange", &exchange)?;
-    let attrs: Vec<(&str, &str)> = match edition {
-        Edition::Fmi2 => vec![
-            ("modelIdentifier", id),
-            ("needsExecutionTool", "false"),
-            ("canHandleVariableCommunicationStepSize", "true"),
-            ("canInterpolateInputs", "true"),
-            ("maxOutputDerivativeOrder", "0"),
-            ("canRunAsynchronuously", "false"),
-            ("canBeInstantiatedOnlyOncePerProcess", "false"),
-            ("canNotUseMemoryManagementFunctions", "true"),
-            ("canGetAndSetFMUstate", "true"),
-            ("canSerializeFMUstate", "true"),
-            ("providesDirectionalDerivative", "false"),
-        ],
-        Edition::Fmi3 => vec![
-            ("modelIdentifier", id),
-            ("needsExecutionTool", "false"),
-            ("canBeInstantiatedOnlyOncePerProcess", "false"),
-            ("canGetAndSetFMUState", "true"),
-            ("canSerializeFMUState", "true"),
-            ("providesDirectionalDerivatives", "false"),
-            ("providesAdjointDerivatives", "false"),
-            ("providesPerElementDependencies", "false"),
-            ("canHandleVariableCommunicationStepSize", "true"),
-            ("maxOutputDerivativeOrder", "0"),
-            ("providesIntermediateUpdate", "false"),
-            ("mightReturnEarlyFromDoStep", "false"),
-            ("canReturnEarlyAfterIntermediateUpdate", "false"),
-            ("hasEventMode", "false"),
-            ("providesEvaluateDiscreteStates", "false"),
-        ],
-    };
-    empty(w, "CoSimulation", &attrs)
-}
-
-/// The name of an FMI 3.0 `Float64Type`: the unit, with the display unit in parentheses.
-fn type_name(unit: &str, display: Option<&str>) -> String {
-    match display {
-        Some(d) => format!("{unit} ({d})"),
-        None => unit.to_string(),
-    }
+    document(|w| write_into(w, scene, edition, token))
 }
 
 fn write_into(w: &mut W, scene: &Scene, edition: Edition, token: &str) -> std::io::Result<()> {
     let c = &scene.config;
     let rows = rows(scene, edition);
-    w.write_event(Event::Decl(BytesDecl::new("1.0", Some("UTF-8"), None)))?;
-    let tool = generation_tool();
-    let (version, token_name) = match edition {
-        Edition::Fmi2 => ("2.0", "guid"),
-        Edition::Fmi3 => ("3.0", "instantiationToken"),
+    let head = Head {
+        edition,
+        model_identifier: &scene.model_identifier,
+        description: &scene.description,
+        token,
+        event_indicators: StringVar::EventVrx.len(values_of(scene).sections),
+        can_interpolate_inputs: true,
+        max_output_derivative_order: 0,
+        units: rows.iter().map(|r| (r.unit, r.display_unit)).collect(),
     };
-    let mut top = vec![
-        ("fmiVersion", version),
-        ("modelName", scene.model_identifier.as_str()),
-        (token_name, token),
-        ("description", scene.description.as_str()),
-        ("generationTool", tool.as_str()),
-        ("variableNamingConvention", "flat"),
-    ];
-    let indicators = StringVar::EventVrx
-        .len(values_of(scene).sections)
-        .to_string();
-    if edition == Edition::Fmi2 {
-        top.push(("numberOfEventIndicators", &indicators));
-    }
-    open(w, "fmiModelDescription", &top)?;
-    write_interfaces(w, scene, edition)?;
-    let mut units: Vec<&str> = rows.iter().map(|r| r.unit).collect();
-    if edition == Edition::Fmi3 {
-        // The independent variable's.
-        units.push("s");
-    }
-    write_units(w, &units)?;
-    if edition == Edition::Fmi3 {
-        let mut types: Vec<(&str, Option<&str>)> = vec![("s", None)];
-        for r in &rows {
-            if !types.contains(&(r.unit, r.display_unit)) {
-                types.push((r.unit, r.display_unit));
-            }
-        }
-        open(w, "TypeDefinitions", &[])?;
-        for (unit, display) in &types {
-            let name = type_name(unit, *display);
-            let mut attrs = vec![("name", name.as_str()), ("unit", *unit)];
-            if let Some(d) = display {
-                attrs.push(("displayUnit", d));
-            }
-            empty(w, "Float64Type", &attrs)?;
-        }
-        close(w, "TypeDefinitions")?;
-    }
-    write_log_categories(w)?;
-    write_default_experiment(w)?;
+    write_head(w, &head)?;
     open(w, "ModelVariables", &[])?;
     if edition == Edition::Fmi3 {
-        empty(
-            w,
-            "Float64",
-            &[
-                ("name", "time"),
-                ("valueReference", "0"),
-                ("description", "Simulation time"),
-                ("causality", "independent"),
-                ("variability", "continuous"),
-                ("declaredType", "s"),
-            ],
-        )?;
+        write_time(w)?;
     }
     for (k, r) in rows.iter().enumerate() {
         // A derivative names its state: FMI 2.0 by its 1-based index, FMI 3.0 by value
@@ -366,10 +232,14 @@ fn write_into(w: &mut W, scene: &Scene, edition: Edition, token: &str) -> std::i
             Edition::Fmi2 => (index_of(&rows, vr)).to_string(),
             Edition::Fmi3 => vr.to_string(),
         });
-        write_variable(w, r, edition, k + 1, derivative)?;
+        write_variable(w, edition, &declared(r, k + 1, derivative))?;
     }
     close(w, "ModelVariables")?;
-    write_structure(w, c, values_of(scene).sections, &rows, edition)?;
+    write_structure(
+        w,
+        edition,
+        &structure(c, values_of(scene).sections, &rows, edition),
+    )?;
     close(w, "fmiModelDescription")
 }
 
@@ -382,177 +252,91 @@ fn values_of(scene: &Scene) -> &crate::table::StringValues {
     scene.string.as_ref().expect("a string scene")
 }
 
-fn write_variable(
-    w: &mut W,
-    r: &Row,
-    edition: Edition,
-    index: usize,
-    derivative: Option<String>,
-) -> std::io::Result<()> {
-    let vr = r.vr.to_string();
-    let variability = match r.role {
-        Role::Param => "fixed",
-        _ => "continuous",
-    };
-    let mut attrs: Vec<(&str, String)> = vec![
-        ("name", r.name.clone()),
-        ("valueReference", vr),
-        ("description", r.description.into()),
-        ("causality", causality(r.role).into()),
-        ("variability", variability.into()),
-    ];
-    match r.role {
-        Role::Param => attrs.push(("initial", "exact".into())),
-        Role::Output | Role::Local => attrs.push(("initial", "calculated".into())),
-        Role::Input => {}
-    }
+/// A row as the model description declares it: every parameter fixed, every output and local
+/// calculated.
+fn declared(r: &Row, index: usize, derivative: Option<String>) -> Declared<'_> {
     let start = r
         .start
         .iter()
         .map(|&x| number(x))
         .collect::<Vec<_>>()
         .join(" ");
-    let bounds: Vec<(&str, String)> = [("min", r.min), ("max", r.max)]
-        .into_iter()
-        .filter_map(|(n, x)| x.map(|x| (n, number(x))))
-        .collect();
-    match edition {
-        Edition::Fmi2 => {
-            w.write_event(Event::Comment(quick_xml::events::BytesText::new(&format!(
-                " index {index} "
-            ))))?;
-            let refs: Vec<(&str, &str)> = attrs.iter().map(|(n, x)| (*n, x.as_str())).collect();
-            open(w, "ScalarVariable", &refs)?;
-            let mut real: Vec<(&str, &str)> = vec![];
-            if let Some(d) = &derivative {
-                real.push(("derivative", d));
-            }
-            real.push(("unit", r.unit));
-            if let Some(d) = r.display_unit {
-                real.push(("displayUnit", d));
-            }
-            if !r.start.is_empty() {
-                real.push(("start", &start));
-            }
-            real.extend(bounds.iter().map(|(n, x)| (*n, x.as_str())));
-            empty(w, "Real", &real)?;
-            close(w, "ScalarVariable")
-        }
-        Edition::Fmi3 => {
-            attrs.push(("declaredType", type_name(r.unit, r.display_unit)));
-            if let Some(d) = derivative {
-                attrs.push(("derivative", d));
-            }
-            attrs.extend(bounds);
-            if !r.start.is_empty() {
-                attrs.push(("start", start));
-            }
-            let mut e = BytesStart::new("Float64");
-            for (n, x) in &attrs {
-                e.push_attribute((*n, x.as_str()));
-            }
-            match r.dimension {
-                None => w.write_event(Event::Empty(e)),
-                Some(n) => {
-                    w.write_event(Event::Start(e))?;
-                    empty(w, "Dimension", &[("start", &n.to_string())])?;
-                    close(w, "Float64")
-                }
-            }
-        }
+    Declared {
+        name: &r.name,
+        vr: r.vr,
+        description: r.description,
+        causality: causality(r.role),
+        variability: match r.role {
+            Role::Param => "fixed",
+            _ => "continuous",
+        },
+        initial: match r.role {
+            Role::Param => Some("exact"),
+            Role::Output | Role::Local => Some("calculated"),
+            Role::Input => None,
+        },
+        unit: r.unit,
+        display_unit: r.display_unit,
+        derivative,
+        start: (!r.start.is_empty()).then_some(start),
+        min: r.min,
+        max: r.max,
+        dimension: r.dimension,
+        index,
     }
 }
 
-fn write_structure(
-    w: &mut W,
-    c: &Config,
-    n: usize,
-    rows: &[Row],
-    edition: Edition,
-) -> std::io::Result<()> {
-    // FMI 2.0 names variables by their 1-based index, FMI 3.0 by value reference.
-    let refs = |vrs: Vec<u32>| -> String {
+/// `ModelStructure` of a string of `n` sections: FMI 2.0 names variables by their 1-based
+/// index, FMI 3.0 by value reference.
+fn structure(c: &Config, n: usize, rows: &[Row], edition: Edition) -> Structure {
+    let refs = |vrs: Vec<u32>| -> Vec<usize> {
         match edition {
-            Edition::Fmi3 => joined(&vrs),
-            Edition::Fmi2 => {
-                let mut idx: Vec<usize> = vrs.iter().map(|&vr| index_of(rows, vr)).collect();
-                idx.sort_unstable();
-                joined(&idx)
-            }
+            Edition::Fmi3 => vrs.into_iter().map(|vr| vr as usize).collect(),
+            Edition::Fmi2 => vrs.iter().map(|&vr| index_of(rows, vr)).collect(),
         }
-    };
-    open(w, "ModelStructure", &[])?;
-    let (out_tag, der_tag, init_tag, key) = match edition {
-        Edition::Fmi2 => ("Unknown", "Unknown", "Unknown", "index"),
-        Edition::Fmi3 => (
-            "Output",
-            "ContinuousStateDerivative",
-            "InitialUnknown",
-            "valueReference",
-        ),
     };
     let id = |k: usize, r: &Row| match edition {
-        Edition::Fmi2 => (k + 1).to_string(),
-        Edition::Fmi3 => r.vr.to_string(),
+        Edition::Fmi2 => k + 1,
+        Edition::Fmi3 => r.vr as usize,
     };
-    let group = |w: &mut W, name: &str, start: bool| -> std::io::Result<()> {
-        match (edition, start) {
-            (Edition::Fmi3, _) => Ok(()),
-            (Edition::Fmi2, true) => open(w, name, &[]),
-            (Edition::Fmi2, false) => close(w, name),
-        }
+    let known = |(k, r): (usize, &Row)| Unknown {
+        id: id(k, r),
+        dependencies: Some(refs(known_dependencies(c, n, r, edition))),
     };
-    group(w, "Outputs", true)?;
-    for (k, r) in rows
-        .iter()
-        .enumerate()
-        .filter(|(_, r)| r.role == Role::Output)
-    {
-        let deps = refs(known_dependencies(c, n, r, edition));
-        empty(w, out_tag, &[(key, &id(k, r)), ("dependencies", &deps)])?;
+    let rows = || rows.iter().enumerate();
+    Structure {
+        outputs: rows()
+            .filter(|(_, r)| r.role == Role::Output)
+            .map(known)
+            .collect(),
+        // Model Exchange: the order of the derivatives is the order of the state vector.
+        derivatives: rows()
+            .filter(|(_, r)| r.derivative_of.is_some())
+            .map(known)
+            .collect(),
+        // The outputs at initialization; the ends' points start at 0 (no dependencies), the
+        // derivatives depend on every parameter and input (no `dependencies`). In index order.
+        initial_unknowns: rows()
+            .filter_map(|(k, r)| {
+                let var = r.of.map(|o| o.0);
+                let dependencies = if r.role == Role::Output {
+                    Some(refs(initial_dependencies(c, r, edition)))
+                } else if matches!(var, Some(StringVar::XTop | StringVar::XBottom)) {
+                    Some(vec![])
+                } else if r.derivative_of.is_some() {
+                    None
+                } else {
+                    return None;
+                };
+                Some(Unknown {
+                    id: id(k, r),
+                    dependencies,
+                })
+            })
+            .collect(),
+        event_indicators: rows()
+            .filter(|(_, r)| r.of.map(|o| o.0) == Some(StringVar::EventVrx))
+            .map(known)
+            .collect(),
     }
-    group(w, "Outputs", false)?;
-    // Model Exchange: the order of the derivatives is the order of the state vector.
-    group(w, "Derivatives", true)?;
-    for (k, r) in rows
-        .iter()
-        .enumerate()
-        .filter(|(_, r)| r.derivative_of.is_some())
-    {
-        let deps = refs(known_dependencies(c, n, r, edition));
-        empty(w, der_tag, &[(key, &id(k, r)), ("dependencies", &deps)])?;
-    }
-    group(w, "Derivatives", false)?;
-    // The outputs at initialization; the ends' points start at 0 (no dependencies), the
-    // derivatives depend on every parameter and input (no `dependencies`). In index order.
-    group(w, "InitialUnknowns", true)?;
-    for (k, r) in rows.iter().enumerate() {
-        let var = r.of.map(|o| o.0);
-        if r.role == Role::Output {
-            let deps = refs(initial_dependencies(c, r, edition));
-            empty(w, init_tag, &[(key, &id(k, r)), ("dependencies", &deps)])?;
-        } else if matches!(var, Some(StringVar::XTop | StringVar::XBottom)) {
-            empty(w, init_tag, &[(key, &id(k, r)), ("dependencies", "")])?;
-        } else if r.derivative_of.is_some() {
-            empty(w, init_tag, &[(key, &id(k, r))])?;
-        }
-    }
-    group(w, "InitialUnknowns", false)?;
-    if edition == Edition::Fmi3 {
-        for r in rows
-            .iter()
-            .filter(|r| r.of.map(|o| o.0) == Some(StringVar::EventVrx))
-        {
-            let deps = refs(known_dependencies(c, n, r, edition));
-            empty(
-                w,
-                "EventIndicator",
-                &[
-                    ("valueReference", &r.vr.to_string()),
-                    ("dependencies", &deps),
-                ],
-            )?;
-        }
-    }
-    close(w, "ModelStructure")
 }

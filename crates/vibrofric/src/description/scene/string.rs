@@ -169,25 +169,24 @@ impl Reader<'_> {
             Shape::Link => format!("one per link ({len} for {n} sections)"),
             Shape::One => "one number".to_string(),
         };
+        // The error of the value as a whole, breaking `rule`.
+        let whole = |rule: String| {
+            let key = format!("start.{name}");
+            self.ctx.err(Some(&span), key, shown.clone(), rule, vec![])
+        };
         let items: Vec<(String, f64)> = match v.get_ref() {
             Value::Array(list) if var.shape().is_array() => {
                 if list.len() != len {
                     let rule =
                         format!("a list of {} values: must be a number or {per}", list.len());
-                    return Err(self.ctx.err(
-                        Some(&span),
-                        format!("start.{name}"),
-                        shown,
-                        rule,
-                        vec![],
-                    ));
+                    return Err(whole(rule));
                 }
                 let mut items = vec![];
                 for (i, x) in list.iter().enumerate() {
                     let key = format!("start.{name}[{}]", i + 1);
                     let Some(x) = as_number(x) else {
                         let rule = "must be a number".to_string();
-                        return Err(self.ctx.err(Some(&span), key, shown, rule, vec![]));
+                        return Err(self.ctx.err(Some(&span), key, shown.clone(), rule, vec![]));
                     };
                     items.push((key, x));
                 }
@@ -202,13 +201,7 @@ impl Reader<'_> {
                     } else {
                         "must be a number".into()
                     };
-                    return Err(self.ctx.err(
-                        Some(&span),
-                        format!("start.{name}"),
-                        shown,
-                        rule,
-                        vec![],
-                    ));
+                    return Err(whole(rule));
                 }
             },
         };

@@ -15,10 +15,7 @@ use crate::fmi::saved::StringSaved;
 use crate::fmi::staging::Staged;
 use crate::fmi::state::{Call, Interface, State};
 use crate::fmi::status::Status;
-use crate::model::string::{
-    build_string, build_string_exchange, StringConfig, StringInput, StringOutputs,
-};
-use crate::model::string::{StringParams, StringSimulator};
+use crate::model::string::{build_from_values, StringInput, StringSimulator};
 use crate::model::{self, SimError};
 use crate::table::{number, Role, StringValues, StringVar, ARRAY_STRIDE};
 
@@ -65,29 +62,7 @@ pub(super) enum Target {
 
 /// The string input of element `i` of an input variable.
 fn input_of(var: StringVar, i: usize) -> StringInput {
-    match var {
-        StringVar::FD => StringInput::Fd(i),
-        StringVar::VSx => StringInput::Vsx(i),
-        StringVar::FN => StringInput::Fn(i),
-        StringVar::VTop => StringInput::VTop,
-        _ => StringInput::VBottom,
-    }
-}
-
-/// The values of an output variable.
-pub(super) fn output_values(o: &StringOutputs, var: StringVar) -> &[f64] {
-    match var {
-        StringVar::FFx => &o.f_fx,
-        StringVar::X => &o.x,
-        StringVar::Vx => &o.v_x,
-        StringVar::Sx => &o.s_x,
-        StringVar::FFxStep => &o.f_fx_step,
-        StringVar::FLink => &o.f_link,
-        StringVar::FTop => std::slice::from_ref(&o.f_top),
-        StringVar::FBottom => std::slice::from_ref(&o.f_bottom),
-        StringVar::FTopStep => std::slice::from_ref(&o.f_top_step),
-        _ => std::slice::from_ref(&o.f_bottom_step),
-    }
+    StringInput::of(var, i).unwrap_or(StringInput::VBottom)
 }
 
 /// Model Exchange's local variables of a string now: the states, their derivatives, the event
@@ -226,7 +201,7 @@ impl Instance {
                 }
                 Target::Elements(var, from, to) => {
                     let src = match (var.role(&c), &outputs) {
-                        (Role::Output, Some((o, _))) => output_values(o, var),
+                        (Role::Output, Some((o, _))) => o.values(var),
                         (Role::Local, Some((_, l))) => l.values(var, part.values.sections),
                         _ => part.values.get(var),
                     };
@@ -437,9 +412,8 @@ impl Instance {
 }
 
 /// A string's simulator (for Model Exchange where `exchange`) from its scene, the staged shared
-/// parameters, start time and tolerance, and its values: the parameters (the load of each section at the scene's `F_N`, where the
-/// normal force is an input: the load at which `F_S` and `zeta_t` are given), then the inputs
-/// as set, then the input derivatives.
+/// parameters, start time and tolerance, and its values ([`build_from_values`]: each section's
+/// load at the scene's `F_N` where the normal force is an input), then the input derivatives.
 fn build(
     scene: &Scene,
     st: &Staged,
@@ -447,35 +421,9 @@ fn build(
     derivs: &[(StringVar, usize, f64)],
     exchange: bool,
 ) -> Result<Box<dyn StringSimulator>, SimError> {
-    let c = &scene.config;
-    let f_n = match (&scene.string, c.normal_input) {
-        (Some(start), true) => start.get(StringVar::FN).to_vec(),
-        _ => v.get(StringVar::FN).to_vec(),
-    };
-    let params = StringParams::from_values(st.params, v, &f_n);
-    let config = StringConfig {
-        law: c.law,
-        harmonic: c.harmonic,
-        normal_input: c.normal_input,
-    };
-    let mut sim = if exchange {
-        build_string_exchange(config, params, st.start_time, st.tolerance())?
-    } else {
-        build_string(config, params, st.start_time, st.tolerance())?
-    };
-    let n = v.sections;
-    for var in StringVar::ALL {
-        if !(var.present(c, n) && var.role(c) == Role::Input) {
-            continue;
-        }
-        for (i, &x) in v.get(var).iter().enumerate() {
-            // The simulator starts with its inputs at 0 and the load inputs at F_N.
-            let at_start = if var == StringVar::FN { f_n[i] } else { 0.0 };
-            if x != at_start {
-                sim.set_input(input_of(var, i), x)?;
-            }
-        }
-    }
+    let start = scene.string.as_ref().unwrap_or(v);
+    let time = (st.start_time, st.tolerance());
+    let mut sim = build_from_values(&scene.config, st.params, v, start, time, exchange)?;
     for &(var, i, d) in derivs {
         sim.set_input_derivative(input_of(var, i), d)?;
     }
@@ -535,6 +483,16 @@ mod tests {
             let c = f.call();
             i.answer(c, |i| body(i, c))
         };
+        // Reset, then through initialization with the values as they are.
+        let reset_and_initialize = |i: &mut Instance| {
+            run(i, F2::Reset, &mut |i, c| i.reset(c));
+            run(i, F2::EnterInitializationMode, &mut |i, c| {
+                i.enter_initialization(c)
+            });
+            run(i, F2::ExitInitializationMode, &mut |i, c| {
+                i.exit_initialization(c)
+            });
+        };
         // m[2] = -1 refused, m[1] of the same call not written.
         let s = run(&mut i, F2::SetReal, &mut |i, c| {
             i.set_values(c, &[1_000_001, 1_000_002], &[5.0, -1.0])
@@ -570,13 +528,7 @@ mod tests {
             "{}",
             last(&log)
         );
-        run(&mut i, F2::Reset, &mut |i, c| i.reset(c));
-        run(&mut i, F2::EnterInitializationMode, &mut |i, c| {
-            i.enter_initialization(c)
-        });
-        run(&mut i, F2::ExitInitializationMode, &mut |i, c| {
-            i.exit_initialization(c)
-        });
+        reset_and_initialize(&mut i);
         assert_eq!(
             run(&mut i, F2::SetReal, &mut |i, c| i.set_values(
                 c,
@@ -586,13 +538,7 @@ mod tests {
             Status::Error
         );
         assert!(last(&log).contains("variability fixed"), "{}", last(&log));
-        run(&mut i, F2::Reset, &mut |i, c| i.reset(c));
-        run(&mut i, F2::EnterInitializationMode, &mut |i, c| {
-            i.enter_initialization(c)
-        });
-        run(&mut i, F2::ExitInitializationMode, &mut |i, c| {
-            i.exit_initialization(c)
-        });
+        reset_and_initialize(&mut i);
         // Pushed at section 3 for a step: it moves, F_d[3] reads back.
         assert_eq!(
             run(&mut i, F2::SetReal, &mut |i, c| i.set_values(

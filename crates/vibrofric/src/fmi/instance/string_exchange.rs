@@ -233,7 +233,7 @@ impl Instance {
         for (slot, out) in unknown.iter().zip(sensitivity.iter_mut()) {
             *out = match *slot {
                 Slot::State(k) => dder[k],
-                Slot::Output(var, i) => super::string::output_values(&dout, var)[i],
+                Slot::Output(var, i) => dout.values(var)[i],
                 Slot::Input(..) => 0.0,
             };
         }

@@ -13,6 +13,8 @@
 //! - `single.rs`: one section with free ends, which is the single contact and is simulated as
 //!   it (bit for bit the scene without `[string]`);
 //! - `exchange.rs`: the string for an importer's integrator (Model Exchange);
+//! - `values.rs`: a string from the values of its variables, its inputs and outputs by
+//!   variable;
 //! - this file: parameters and their rules, inputs, stepping to communication points with the
 //!   step means of the friction and end forces (the collocation quadrature of each accepted
 //!   step), outputs.
@@ -21,9 +23,11 @@ mod equations;
 mod exchange;
 mod refine;
 mod single;
+mod values;
 
 pub use equations::{Links, Section, StringInputs, StringModel, PER_SECTION};
 pub use exchange::{state_name, InputDirection, StringExchange};
+pub use values::build_from_values;
 
 use crate::physics::{Dahl, Dupont, FrictionLaw, Harmonic, InputTrack, LuGre};
 use crate::solver::band::{Accepted, BandRadau, BandSystem, BandWork};
