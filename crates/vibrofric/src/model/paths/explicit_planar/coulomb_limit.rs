@@ -95,9 +95,13 @@ const FIRST_MAX: f64 = 1e-2;
 const RATIO_MAX: f64 = 0.1;
 
 /// The relative tolerance of the error control (a tenth of the user's) at and below which a
-/// Dahl contact's deformation on the manifold is taken to third order ([`third_order`]): the
-/// neglected third order held the manifold's steps back from part of every period at
-/// tolerance 1e-8 (PaperTransverse at `k_t` = 1e12: 32 of 87 steps per period on it).
+/// Dahl contact's deformation on the manifold is taken to third order ([`third_order`]) at
+/// the points where the second order is not certified by itself: the neglected third order
+/// held the manifold's steps back from part of every period at tolerance 1e-8
+/// (PaperTransverse at `k_t` = 1e12: 32 of 87 steps per period on it). At 1e-6 (relative
+/// 1e-7) it would have taken RigTransverse's start from rest at 1e12 from 43.4 to 38.7 steps
+/// per period (572 to 431 right-hand sides), `F_Fx` 1.11e-7 to 9.3e-8 of `F_C` off the path
+/// at 1e-10 but `F_Fy` 2.20e-8 to 2.31e-8: not taken.
 const THIRD_ORDER_BELOW: f64 = 1e-8;
 
 /// The neglected third order ([`neglected`]) at most this fraction of `rtol·L` (the error
@@ -150,8 +154,9 @@ pub struct Point<V> {
     pub first2: f64,
     /// `|z2 − z1|²`.
     pub second2: f64,
-    /// `|z3 − z2|²` where the third order is taken ([`Limit::third`]), else 0.
-    pub third2: f64,
+    /// `|z3 − z2|²` where the third order is taken (where the second order is not certified
+    /// at the point, [`Limit::third`]).
+    pub third2: Option<f64>,
     /// `v_r`.
     pub vr: V,
     /// `|v_r|`.
@@ -191,7 +196,7 @@ pub fn manifold<V: Vector>(len: f64, vr: V, a0: V, a1: V, jerk: V) -> Point<V> {
         s: e * len + z2,
         first2: z1.dot(z1),
         second2: (z2 - z1).dot(z2 - z1),
-        third2: 0.0,
+        third2: None,
         vr,
         r,
         ar: a0,
@@ -277,6 +282,9 @@ pub(super) struct Limit<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> {
     third: bool,
     /// The end of the last step on the manifold: its time, body and point.
     last: Cell<Option<End<V>>>,
+    /// The support's motion at the last time asked ([`Limit::support`]): a step's last two
+    /// stages share their time.
+    motion: Cell<(f64, [V; 4])>,
 }
 
 impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> {
@@ -318,14 +326,20 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
             rtol,
             third: matches!(kind, Kind::Dahl { .. }) && rtol <= THIRD_ORDER_BELOW,
             last: Cell::new(None),
+            motion: Cell::new((f64::NAN, [V::default(); 4])),
         })
     }
 
-    /// The support's velocity, acceleration and jerk at `t`: the harmonic source's (one
+    /// The support's velocity, acceleration, jerk and snap at `t`: the harmonic source's (one
     /// argument reduction), and the input tracks' values and slopes. The velocity has the
     /// right-hand side's bits and is remembered for the stage's evaluation at `t`.
     #[inline(always)]
     fn support(&self, t: f64) -> [V; 4] {
+        let (known, motion) = self.motion.get();
+        if known == t {
+            self.sys.remember_support(t, motion[0]);
+            return motion;
+        }
         let dynamics = self.sys.dynamics;
         let (mut vs, mut acc) = (V::default(), V::default());
         let (mut jerk, mut snap) = (V::default(), V::default());
@@ -345,6 +359,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
             acc = acc + V::from_xy(x.slope, y.slope);
         }
         self.sys.remember_support(t, vs);
+        self.motion.set((t, [vs, acc, jerk, snap]));
         [vs, acc, jerk, snap]
     }
 
@@ -399,7 +414,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
         let acc2 = drive.acceleration(&moved[..D::N_BODY], f2, &d2, a_d);
         let jerk = (acc2 - acc0) * (1.0 / tau) - jerk_s;
         let point = manifold(len, vr, a0, a1, jerk);
-        if !self.third {
+        if !self.third || self.converges(point.first2, point.second2, len, point.weight) {
             return Some(point);
         }
         // The third order ([`THIRD_ORDER_BELOW`]): the body's second rate along the motion
@@ -420,7 +435,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
         let z3 = correction(len, vr, a2 - a1) + third_order(len, vr, a0, jerk, snap);
         Some(Point {
             s: point.s + z3,
-            third2: z3.dot(z3),
+            third2: Some(z3.dot(z3)),
             ..point
         })
     }
@@ -477,7 +492,7 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'s, 'a, V, L, D> 
             s: V::from_xy(first.sigma * g + z2, 0.0),
             first2: first.z1 * first.z1,
             second2: (z2 - first.z1) * (z2 - first.z1),
-            third2: 0.0,
+            third2: None,
             vr: first.vr,
             r: first.r,
             ar: V::from_xy(first.ar, 0.0),
@@ -559,13 +574,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'_, '_, V, L, D> {
         };
         let s0 = V::read(&u[..V::DIM]);
         let on = (s0 - point.s).norm() <= START_FRACTION * self.rtol * point.len;
-        let converges = self.converges(
-            point.first2,
-            point.second2,
-            point.third2,
-            point.len,
-            point.weight,
-        );
+        let converges = self.certified(&point);
         (on && self.small(&point) && converges).then(|| Start {
             point,
             reach: reach(&point),
@@ -596,8 +605,15 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'_, '_, V, L, D> {
         if !ok {
             return None;
         }
-        let (mut first2, mut second2, mut third2) = (p0.first2, p0.second2, p0.third2);
-        let (mut len, mut weight) = (p0.len, p0.weight);
+        // The largest terms over the step's points taken to second order (each point taken to
+        // third order is certified by itself).
+        let (mut first2, mut second2, mut len, mut weight) = match p0.third2 {
+            None => (p0.first2, p0.second2, p0.len, p0.weight),
+            Some(_) => (0.0, 0.0, f64::INFINITY, 0.0),
+        };
+        if p0.third2.is_some() && !self.certified(&p0) {
+            return None;
+        }
         let s0 = V::read(&u[..V::DIM]);
         let mut u0 = *u;
         p0.s.write(&mut u0[..V::DIM]);
@@ -612,11 +628,14 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'_, '_, V, L, D> {
                 let p = self.point::<N>(tt, y);
                 let s = match p {
                     Some(p) if ok && self.fits(&p, h) => {
-                        first2 = first2.max(p.first2);
-                        second2 = second2.max(p.second2);
-                        third2 = third2.max(p.third2);
-                        len = len.min(p.len);
-                        weight = weight.max(p.weight);
+                        if p.third2.is_some() {
+                            ok = self.certified(&p);
+                        } else {
+                            first2 = first2.max(p.first2);
+                            second2 = second2.max(p.second2);
+                            len = len.min(p.len);
+                            weight = weight.max(p.weight);
+                        }
                         if i == 6 {
                             end = Some((tt, p));
                         }
@@ -634,7 +653,7 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'_, '_, V, L, D> {
             &k1,
             h,
         );
-        if !ok || !self.converges(first2, second2, third2, len, weight) {
+        if !ok || !self.converges(first2, second2, len, weight) {
             return None;
         }
         let (te, pe) = end?;
@@ -660,23 +679,34 @@ impl<V: Vector, L: FrictionLaw, D: DriveKind<V>> Limit<'_, '_, V, L, D> {
         Some((step, u1))
     }
 
-    /// Whether the expansion converges ([`RATIO_MAX`]) and its neglected order
-    /// ([`neglected`] of the last two taken), weighed by `weight` ([`Point::weight`]), is
-    /// below its share of the tolerance on the length `len`, given the squares of the largest
-    /// first, second and (where taken, [`Limit::third`]) third order terms over a step.
+    /// Whether the expansion converges ([`RATIO_MAX`]) and its neglected third order
+    /// ([`neglected`]), weighed by `weight` ([`Point::weight`]), is below its share of the
+    /// tolerance on the length `len`, given the squares of the largest first and second order
+    /// terms over a step.
     #[inline(always)]
-    fn converges(&self, first2: f64, second2: f64, third2: f64, len: f64, weight: f64) -> bool {
-        let r2 = RATIO_MAX * RATIO_MAX;
-        let (last2, next2) = if self.third {
-            (second2, third2)
-        } else {
-            (first2, second2)
-        };
+    fn converges(&self, first2: f64, second2: f64, len: f64, weight: f64) -> bool {
         second2 == 0.0
-            || (second2 <= r2 * first2
-                && third2 <= r2 * second2
-                && neglected(last2.sqrt(), next2.sqrt()) * weight
+            || (second2 <= RATIO_MAX * RATIO_MAX * first2
+                && neglected(first2.sqrt(), second2.sqrt()) * weight
                     <= NEGLECT_FRACTION * self.rtol * len)
+    }
+
+    /// Whether one point's expansion is certified: to second order as [`Limit::converges`];
+    /// taken to third order, its orders converging and its neglected fourth order
+    /// ([`neglected`] of the second and third) below the same share of the tolerance.
+    #[inline(always)]
+    fn certified(&self, p: &Point<V>) -> bool {
+        match p.third2 {
+            None => self.converges(p.first2, p.second2, p.len, p.weight),
+            Some(third2) => {
+                let r2 = RATIO_MAX * RATIO_MAX;
+                p.second2 <= r2 * p.first2
+                    && (third2 == 0.0
+                        || (third2 <= r2 * p.second2
+                            && neglected(p.second2.sqrt(), third2.sqrt()) * p.weight
+                                <= NEGLECT_FRACTION * self.rtol * p.len))
+            }
+        }
     }
 
     /// Whether the first-order term is within [`FIRST_MAX`] and the deformation finite.
