@@ -76,8 +76,14 @@ impl<V: Vector> StageSupport<V> {
         support
     }
 
-    /// The harmonic source's phase at `t` as (cosine, sine): known, or afresh.
-    #[inline(always)]
+    /// The harmonic source's phase at `t` as (cosine, sine): known, or afresh. Never inlined:
+    /// inlined, rustc 1.95 (LLVM) has twice given the explicit path a wrong support velocity
+    /// depending only on how other code happened to be inlined (RigLongitudinal at `k_t` =
+    /// 1e12 at 115771 steps instead of 3209; after an unrelated change to the planar
+    /// Coulomb limit, `tests/core_physics.rs`'s longitudinal force drive off its reference in
+    /// sign). Out of line, the known phases are read from memory as a pair and both builds
+    /// agree with their references.
+    #[inline(never)]
     fn phase(&self, t: f64) -> (f64, f64) {
         let [(t0, p0), (t1, p1)] = self.known;
         if t == t0 {
