@@ -1,7 +1,11 @@
-//! Helper bench for issue 35 (not part of the repository): one standard scene, one setting.
-//! bench35 FILE TOL KT T REPS  -> prints min CPU µs per period over REPS runs to T seconds
-//! (communication steps of 1 ms), the path and steps. KT 0 keeps the scene's k_t.
-//! REPS 0: builds the simulator only (for subtracting the start-up's instructions).
+//! CPU time per vibration period of one standard scene at one setting, for comparing two
+//! builds of the library run after each other (the minimum of REPS runs, so that a loaded
+//! machine biases it least), with the path it takes and its steps.
+//!
+//! `cargo run --release --example period_bench -- FILE TOL KT T REPS`: the scene `scenes/FILE`,
+//! tolerance TOL, contact stiffness KT (0 keeps the scene's), T seconds in communication steps
+//! of 1 ms. REPS 0 builds the simulator only (to subtract the start-up's instructions when
+//! counting them with valgrind).
 
 #[path = "../tests/support/scenes.rs"]
 #[allow(dead_code)]
