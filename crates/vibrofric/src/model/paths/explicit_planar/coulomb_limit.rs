@@ -874,6 +874,32 @@ mod tests {
         );
     }
 
+    /// A tight integration of the full `ds/dt = v_r − |v_r|·s/L` from rest to 1.3e-4 s
+    /// (classical Runge–Kutta at a step far below the relaxation time `L/|v_r|`, `v_r` at
+    /// least `v0`), handing `sample` the time and deformation at every 97th step after 2e-5 s,
+    /// well past the start's relaxation (its time is below 1e-7 s).
+    fn relax(len: f64, v0: f64, vr: impl Fn(f64) -> Planar, mut sample: impl FnMut(f64, Planar)) {
+        let rate = |t: f64, s: Planar| {
+            let v = vr(t);
+            v - s * (v.norm() / len)
+        };
+        let h = 0.02 * len / (v0 * 3.0);
+        let (mut t, mut s) = (0.0, Planar::default());
+        let mut steps = 0u64;
+        while t < 1.3e-4 {
+            let k1 = rate(t, s);
+            let k2 = rate(t + h / 2.0, s + k1 * (h / 2.0));
+            let k3 = rate(t + h / 2.0, s + k2 * (h / 2.0));
+            let k4 = rate(t + h, s + k3 * h);
+            s = s + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
+            t += h;
+            steps += 1;
+            if t > 2e-5 && steps.is_multiple_of(97) {
+                sample(t, s);
+            }
+        }
+    }
+
     /// The third order ([`third_order`]) against the same tight integration as
     /// [`manifold_is_the_relaxed_deformation`], at lengths where it stands out of the
     /// integration's rounding: the second order alone is off by about the third-order term,
@@ -888,32 +914,16 @@ mod tests {
         let jerk = move |t: f64| vr(t) * (-w2) + Planar::from_xy(v0 * w2, 0.0);
         let snap = move |t: f64| ar(t) * (-w2);
         for len in [1.1e-10, 1.1e-9] {
-            let rate = |t: f64, s: Planar| {
-                let v = vr(t);
-                v - s * (v.norm() / len)
-            };
-            let h = 0.02 * len / (v0 * 3.0);
-            let (mut t, mut s) = (0.0, Planar::default());
             let (mut worst, mut worst_second): (f64, f64) = (0.0, 0.0);
             let (mut second, mut third): (f64, f64) = (0.0, 0.0);
-            let mut steps = 0u64;
-            while t < 1.3e-4 {
-                let k1 = rate(t, s);
-                let k2 = rate(t + h / 2.0, s + k1 * (h / 2.0));
-                let k3 = rate(t + h / 2.0, s + k2 * (h / 2.0));
-                let k4 = rate(t + h, s + k3 * h);
-                s = s + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
-                t += h;
-                steps += 1;
-                if t > 2e-5 && steps.is_multiple_of(97) {
-                    let p = manifold(len, vr(t), ar(t), ar(t), jerk(t));
-                    let z3 = third_order(len, vr(t), ar(t), jerk(t), |_| snap(t));
-                    worst = worst.max((p.s + z3 - s).norm() / len);
-                    worst_second = worst_second.max((p.s - s).norm() / len);
-                    second = second.max(p.second2.sqrt() / len);
-                    third = third.max(z3.norm() / len);
-                }
-            }
+            relax(len, v0, vr, |t, s| {
+                let p = manifold(len, vr(t), ar(t), ar(t), jerk(t));
+                let z3 = third_order(len, vr(t), ar(t), jerk(t), |_| snap(t));
+                worst = worst.max((p.s + z3 - s).norm() / len);
+                worst_second = worst_second.max((p.s - s).norm() / len);
+                second = second.max(p.second2.sqrt() / len);
+                third = third.max(z3.norm() / len);
+            });
             assert!(third > 1e-9, "a third order worth testing: {third:e}");
             assert_orders(
                 &format!("L = {len}"),
@@ -938,35 +948,16 @@ mod tests {
         let ar = move |t: f64| Planar::from_xy(0.0, -amp * omega * (omega * t).sin());
         let jerk = move |t: f64| Planar::from_xy(0.0, -amp * omega * omega * (omega * t).cos());
         for len in [1.1e-11, 1.1e-10] {
-            let rate = |t: f64, s: Planar| {
-                let v = vr(t);
-                v - s * (v.norm() / len)
-            };
-            // Classical Runge–Kutta at a step far below the relaxation time L/|v_r|.
-            let h = 0.02 * len / (v0 * 3.0);
-            let (mut t, mut s) = (0.0, Planar::default());
-            let t_end = 1.3e-4;
             let (mut worst, mut worst_first): (f64, f64) = (0.0, 0.0);
             let (mut first, mut second): (f64, f64) = (0.0, 0.0);
-            let mut steps = 0u64;
-            while t < t_end {
-                let k1 = rate(t, s);
-                let k2 = rate(t + h / 2.0, s + k1 * (h / 2.0));
-                let k3 = rate(t + h / 2.0, s + k2 * (h / 2.0));
-                let k4 = rate(t + h, s + k3 * h);
-                s = s + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0);
-                t += h;
-                steps += 1;
-                // Well past the start's relaxation (its time L/|v_r| is below 1e-7 s).
-                if t > 2e-5 && steps.is_multiple_of(97) {
-                    let p = manifold(len, vr(t), ar(t), ar(t), jerk(t));
-                    worst = worst.max((p.s - s).norm() / len);
-                    let s1 = vr(t) * (len / vr(t).norm()) + correction(len, vr(t), ar(t));
-                    worst_first = worst_first.max((s1 - s).norm() / len);
-                    first = first.max(p.first2.sqrt() / len);
-                    second = second.max(p.second2.sqrt() / len);
-                }
-            }
+            relax(len, v0, vr, |t, s| {
+                let p = manifold(len, vr(t), ar(t), ar(t), jerk(t));
+                worst = worst.max((p.s - s).norm() / len);
+                let s1 = vr(t) * (len / vr(t).norm()) + correction(len, vr(t), ar(t));
+                worst_first = worst_first.max((s1 - s).norm() / len);
+                first = first.max(p.first2.sqrt() / len);
+                second = second.max(p.second2.sqrt() / len);
+            });
             // ε = (L/r)·Ω, about 4e-4 at L = 1.1e-11 and 4e-3 at 1.1e-10: r ≥ 1e-3 m/s,
             // Ω ≈ 3e4/s.
             assert_orders(
