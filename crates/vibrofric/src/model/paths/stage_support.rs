@@ -82,7 +82,11 @@ impl<V: Vector> StageSupport<V> {
     /// 1e12 at 115771 steps instead of 3209; after an unrelated change to the planar
     /// Coulomb limit, `tests/core_physics.rs`'s longitudinal force drive off its reference in
     /// sign). Out of line, the known phases are read from memory as a pair and both builds
-    /// agree with their references.
+    /// agree with their references. Inlined, the same source gives the reference's bits in a
+    /// debug build, at opt-level 2, with the SLP vectorizer off and in one code-generation
+    /// unit: a fault of the optimizer at opt-level 3, most likely the SLP vectorizer on the
+    /// phase's rotations. (One unit would also allow the inlining, but costs the closed-form
+    /// path about 7 % per vibration period.)
     #[inline(never)]
     fn phase(&self, t: f64) -> (f64, f64) {
         let [(t0, p0), (t1, p1)] = self.known;
