@@ -90,6 +90,25 @@
 //! ([`LAMBDA_BY_MOVES_FROM`]), 149–157 → 124–126 µs per period at 1e12 (the ratio to 1e8
 //! from 0.1 to 0.2 s 8.3 → 7.1).
 //!
+//! Measured and not taken (kept on the side branch `issue-38c-lawson-try`): LuGre's plain
+//! step in one dimension in integrating-factor form, `s = q0 + exp(−λ)·(s0 − q0 + K)` with
+//! `dK/dt = exp(λ)·(v_r − q0·dλ/dt)` and `q0` the start's target, exact in `s` for any `q0`,
+//! `K` and λ integrated in place of `s` (neither stiff), the stages' deformation from them.
+//! On a LuGre contact with `F_S = F_C` and no damping (Dahl's law) it halved the steps (45 →
+//! 22 per period at 1e8, tolerance 1e-6); on VibratingContactLuGre the Stribeck and damping
+//! Gaussians of `v_r` (as wide as `v_S` = `v_e`, about 3e-5 s of a period) hold the body and
+//! `K` instead: 41.5 → 31.4 steps per period at 1e8 (taking steps up to a relaxation of 10
+//! per step), `F_Fx` 1.96e-7 of `F_C` off Radau at 1e-12 against 8.8e-7, but each attempt
+//! about 30 % dearer (the exponential and division at each stage), 133 → 143 thousand
+//! instructions per period (valgrind; 293 → 274 at 1e-8, where `F_Fx` rose from 3.3e-9 to
+//! 9.3e-9). At 1e12 up to a relaxation of 1 per step it cut the steps after each reversal
+//! (129 → 82 per period, 988 → 910 thousand instructions from rest) but not from rest at 1e-8
+//! (335 → 1165 steps per period over the first 0.02 s); beyond 1 its steps there failed
+//! (548 steps per period). Nor did taking the harmonic source's displacement exactly in `K`
+//! or λ, a larger tolerance fraction (0.1 → 0.4: 30.6 → 28.2 steps, `F_Fx` 2.0e-6), cutting
+//! the step short of a predicted reversal (44–47 steps) or ending a rejected step's successor
+//! on the sign change it located (41.5 → 41.0) pay.
+//!
 //! Dahl's and LuGre's deformation rate `v_r − |v_r|·s/s_ss` is Lipschitz continuous
 //! everywhere (its kink where `v_r` passes through zero in the plane is a point, found by the
 //! error control). While
