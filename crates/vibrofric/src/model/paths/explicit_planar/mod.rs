@@ -90,8 +90,8 @@
 //! ([`LAMBDA_BY_MOVES_FROM`]), 149–157 → 124–126 µs per period at 1e12 (the ratio to 1e8
 //! from 0.1 to 0.2 s 8.3 → 7.1).
 //!
-//! Measured and not taken (kept on the side branch `issue-38c-lawson-try`): LuGre's plain
-//! step in one dimension in integrating-factor form, `s = q0 + exp(−λ)·(s0 − q0 + K)` with
+//! Measured and not taken: LuGre's plain step in one dimension in integrating-factor form,
+//! `s = q0 + exp(−λ)·(s0 − q0 + K)` with
 //! `dK/dt = exp(λ)·(v_r − q0·dλ/dt)` and `q0` the start's target, exact in `s` for any `q0`,
 //! `K` and λ integrated in place of `s` (neither stiff), the stages' deformation from them.
 //! On a LuGre contact with `F_S = F_C` and no damping (Dahl's law) it halved the steps (45 →
