@@ -234,25 +234,35 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
         (4, 3)
     }
 
+    /// As [`StringModel::contact`] and [`StringModel::link`] section by section, on the
+    /// sections' chunks of the state (no bounds checks), the support's harmonic part once.
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let n = self.n();
         let ends = self.ends(t, y);
+        let harmonic = self.harmonic.map_or(0.0, |h| h.velocity(t).0);
+        let (ys, _) = y[..PER_SECTION * n].as_chunks::<PER_SECTION>();
+        let (dys, _) = dy[..PER_SECTION * n].as_chunks_mut::<PER_SECTION>();
+        let (inp, l) = (&self.inputs, &self.links);
         let mut left = 0.0; // F_link[i − 1]
-        for i in 0..n {
-            let k = PER_SECTION * i;
-            let (v, s) = (y[k + 1], y[k + 2]);
-            let (ds, f) = self.contact(i, t, v, s);
-            let right = if i + 1 < n { self.link(i, y) } else { 0.0 };
-            let mut force = self.inputs.f_d[i].at(t) + right - left - f;
+        let sections = self.sections.iter().zip(&inp.f_d).zip(&inp.v_sx);
+        for (i, ((((sec, f_d), v_sx), yi), dyi)) in sections.zip(ys).zip(dys).enumerate() {
+            let [x, v, s] = *yi;
+            let law = self.law(i, t);
+            let vr = v - (v_sx.at(t) + harmonic);
+            // One exponential where the law's two velocities are equal (LuGre's default).
+            let (ds, f) = law.rate_force_at(s, vr, &law.velocity_terms(vr));
+            let right = match ys.get(i + 1) {
+                Some(next) => l.k_s[i] * (next[0] - x) + l.c_s[i] * (next[1] - v),
+                None => 0.0,
+            };
+            let mut force = f_d.at(t) + right - left - f;
             if i == 0 {
                 force += ends.top;
             }
             if i + 1 == n {
                 force -= ends.bottom;
             }
-            dy[k] = v;
-            dy[k + 1] = force * self.sections[i].inv_m;
-            dy[k + 2] = ds;
+            *dyi = [v, force * sec.inv_m, ds];
             left = right;
         }
     }

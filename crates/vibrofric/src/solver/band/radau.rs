@@ -329,9 +329,9 @@ impl BandRadau {
             self.err_acc = err.max(1e-2);
             self.n_accept += 1;
             self.stats.steps += 1;
-            for (k, stage) in work.stages.iter_mut().enumerate() {
-                for i in 0..n {
-                    stage[i] = self.y[i] + work.z[k][i];
+            for (stage, z) in work.stages.iter_mut().zip(&work.z) {
+                for ((s, y), z) in stage[..n].iter_mut().zip(&self.y[..n]).zip(&z[..n]) {
+                    *s = y + z;
                 }
             }
             on_step(Accepted {
@@ -343,15 +343,18 @@ impl BandRadau {
                 refine: &work.refine,
             })?;
             // The collocation polynomial, for the next step's starting values.
+            let (z1, z2, z3) = (&work.z[0][..n], &work.z[1][..n], &work.z[2][..n]);
+            let (cont0, rest) = self.cont[..3 * n].split_at_mut(n);
+            let (cont1, cont2) = rest.split_at_mut(n);
             for i in 0..n {
-                let (z1, z2, z3) = (work.z[0][i], work.z[1][i], work.z[2][i]);
+                let (z1, z2, z3) = (z1[i], z2[i], z3[i]);
                 let c0 = (z2 - z3) / C2M1;
                 let ak = (z1 - z2) / C1MC2;
                 let acont3 = (ak - z1 / C[0]) / C[1];
                 let c1 = (ak - c0) / C1M1;
-                self.cont[i] = c0;
-                self.cont[n + i] = c1;
-                self.cont[2 * n + i] = c1 - acont3;
+                cont0[i] = c0;
+                cont1[i] = c1;
+                cont2[i] = c1 - acont3;
             }
             self.y.copy_from_slice(&work.stages[2]);
             self.t = t_new;
@@ -397,11 +400,14 @@ impl BandRadau {
             return;
         }
         let c3q = h / self.h_old;
-        for k in 0..3 {
+        let (cont0, rest) = self.cont[..3 * n].split_at(n);
+        let (cont1, cont2) = rest.split_at(n);
+        for (k, z) in work.z.iter_mut().enumerate() {
             let cq = C[k] * c3q;
+            let z = &mut z[..n];
             for i in 0..n {
-                let (c0, c1, c2) = (self.cont[i], self.cont[n + i], self.cont[2 * n + i]);
-                work.z[k][i] = (c0 + (c1 + c2 * (cq - C1M1)) * (cq - C2M1)) * cq;
+                let (c0, c1, c2) = (cont0[i], cont1[i], cont2[i]);
+                z[i] = (c0 + (c1 + c2 * (cq - C1M1)) * (cq - C2M1)) * cq;
             }
         }
     }
@@ -418,8 +424,9 @@ impl BandRadau {
         let mut theta_old = 0.0;
         for newt in 1..=NIT {
             for k in 0..3 {
-                for i in 0..n {
-                    work.tmp[i] = self.y[i] + work.z[k][i];
+                let tmp = &mut work.tmp[..n];
+                for ((t, y), z) in tmp.iter_mut().zip(&self.y[..n]).zip(&work.z[k][..n]) {
+                    *t = y + z;
                 }
                 sys.rhs(self.t + C[k] * h, &work.tmp, &mut work.f[k]);
             }
@@ -427,32 +434,39 @@ impl BandRadau {
             if !work.f.iter().all(|f| f.iter().all(|v| v.is_finite())) {
                 return Err(0.5);
             }
-            // In W = T⁻¹·Z: (Λ/h − J)·ΔW = T⁻¹·F − (Λ/h)·W.
-            for i in 0..n {
-                let (f1, f2, f3) = (work.f[0][i], work.f[1][i], work.f[2][i]);
-                let (z1, z2, z3) = (work.z[0][i], work.z[1][i], work.z[2][i]);
-                let a = |r: usize| TI[r][0] * f1 + TI[r][1] * f2 + TI[r][2] * f3;
-                let w = |r: usize| TI[r][0] * z1 + TI[r][1] * z2 + TI[r][2] * z3;
-                let (w1, w2, w3) = (w(0), w(1), w(2));
-                work.w[0][i] = w1;
-                work.w[1][i] = w2;
-                work.w[2][i] = w3;
-                work.dw[i] = a(0) - w1 * (U1 / h);
-                work.dwc[i] = Complex::new(
-                    a(1) - w2 * (ALPH / h) + w3 * (BETA / h),
-                    a(2) - w2 * (BETA / h) - w3 * (ALPH / h),
-                );
+            // In W = T⁻¹·Z: (Λ/h − J)·ΔW = T⁻¹·F − (Λ/h)·W. (Slices of length `n` throughout,
+            // so that the loops run without bounds checks.)
+            let (u1, alph, beta) = (U1 / h, ALPH / h, BETA / h);
+            {
+                let (f1, f2, f3) = (&work.f[0][..n], &work.f[1][..n], &work.f[2][..n]);
+                let (z1, z2, z3) = (&work.z[0][..n], &work.z[1][..n], &work.z[2][..n]);
+                let (dw, dwc) = (&mut work.dw[..n], &mut work.dwc[..n]);
+                for i in 0..n {
+                    let (f1, f2, f3) = (f1[i], f2[i], f3[i]);
+                    let (z1, z2, z3) = (z1[i], z2[i], z3[i]);
+                    let a = |r: usize| TI[r][0] * f1 + TI[r][1] * f2 + TI[r][2] * f3;
+                    let w = |r: usize| TI[r][0] * z1 + TI[r][1] * z2 + TI[r][2] * z3;
+                    let (w1, w2, w3) = (w(0), w(1), w(2));
+                    dw[i] = a(0) - w1 * u1;
+                    dwc[i] =
+                        Complex::new(a(1) - w2 * alph + w3 * beta, a(2) - w2 * beta - w3 * alph);
+                }
             }
             work.solve_real();
             work.solve_complex();
             let mut sum = 0.0;
-            for i in 0..n {
-                let dw = [work.dw[i], work.dwc[i].re, work.dwc[i].im];
-                for k in 0..3 {
-                    let dz = T[k][0] * dw[0] + T[k][1] * dw[1] + T[k][2] * dw[2];
-                    let r = dz / work.scal[i];
-                    sum += r * r;
-                    work.z[k][i] += dz;
+            {
+                let (dwr, dwc, scal) = (&work.dw[..n], &work.dwc[..n], &work.scal[..n]);
+                let [z1, z2, z3] = &mut work.z;
+                let z = [&mut z1[..n], &mut z2[..n], &mut z3[..n]];
+                for i in 0..n {
+                    let dw = [dwr[i], dwc[i].re, dwc[i].im];
+                    for k in 0..3 {
+                        let dz = T[k][0] * dw[0] + T[k][1] * dw[1] + T[k][2] * dw[2];
+                        let r = dz / scal[i];
+                        sum += r * r;
+                        z[k][i] += dz;
+                    }
                 }
             }
             let dyno = (sum / (3 * n).max(1) as f64).sqrt();
@@ -496,10 +510,14 @@ impl BandRadau {
     ) -> f64 {
         let n = self.y.len();
         // f2 = (DD1·z1 + DD2·z2 + DD3·z3)/h, kept in work.w[0]; estimate (U1/h − J)⁻¹·(f0 + f2).
-        for i in 0..n {
-            let f2 = (DD1 * work.z[0][i] + DD2 * work.z[1][i] + DD3 * work.z[2][i]) / h;
-            work.w[0][i] = f2;
-            work.dw[i] = work.f0[i] + f2;
+        {
+            let (z1, z2, z3) = (&work.z[0][..n], &work.z[1][..n], &work.z[2][..n]);
+            let (w, dw, f0) = (&mut work.w[0][..n], &mut work.dw[..n], &work.f0[..n]);
+            for i in 0..n {
+                let f2 = (DD1 * z1[i] + DD2 * z2[i] + DD3 * z3[i]) / h;
+                w[i] = f2;
+                dw[i] = f0[i] + f2;
+            }
         }
         work.solve_real();
         let mut err = rms(&work.dw, &work.scal).max(1e-10);
