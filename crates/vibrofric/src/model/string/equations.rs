@@ -168,15 +168,26 @@ impl<L: FrictionLaw> StringModel<L> {
     /// The support velocity under section `i` at `t`.
     #[inline(always)]
     pub fn support(&self, i: usize, t: f64) -> f64 {
-        let h = self.harmonic.map_or(0.0, |h| h.velocity(t).0);
-        self.inputs.v_sx[i].at(t) + h
+        self.inputs.v_sx[i].at(t) + self.harmonic_velocity(t)
     }
 
-    /// `(ds/dt, F_Fx)` of section `i` at `t` with position-velocity-deformation `y`.
+    /// The harmonic source's velocity at `t` (0 without one), the same under every section.
+    #[inline(always)]
+    fn harmonic_velocity(&self, t: f64) -> f64 {
+        self.harmonic.map_or(0.0, |h| h.velocity(t).0)
+    }
+
+    /// `(ds/dt, F_Fx)` of section `i` at `t` with velocity `v` and deformation `s`.
     #[inline(always)]
     pub fn contact(&self, i: usize, t: f64, v: f64, s: f64) -> (f64, f64) {
+        self.contact_over(i, t, self.support(i, t), v, s)
+    }
+
+    /// [`StringModel::contact`] over a support moving at `w`.
+    #[inline(always)]
+    fn contact_over(&self, i: usize, t: f64, w: f64, v: f64, s: f64) -> (f64, f64) {
         let law = self.law(i, t);
-        let vr = v - self.support(i, t);
+        let vr = v - w;
         // One exponential where the law's two velocities are equal (LuGre's default).
         law.rate_force_at(s, vr, &law.velocity_terms(vr))
     }
@@ -196,7 +207,13 @@ impl<L: FrictionLaw> StringModel<L> {
     #[inline(always)]
     pub fn link(&self, i: usize, y: &[f64]) -> f64 {
         let (a, b) = (PER_SECTION * i, PER_SECTION * (i + 1));
-        self.links.k_s[i] * (y[b] - y[a]) + self.links.c_s[i] * (y[b + 1] - y[a + 1])
+        self.link_between(i, &y[a..b], &y[b..])
+    }
+
+    /// The force in link `i` from the states `[x, v, ...]` of the sections it joins.
+    #[inline(always)]
+    fn link_between(&self, i: usize, a: &[f64], b: &[f64]) -> f64 {
+        self.links.k_s[i] * (b[0] - a[0]) + self.links.c_s[i] * (b[1] - a[1])
     }
 
     /// The end forces at `t`: `F_top` on section 1, `F_bottom` of section N on its holder.
@@ -239,20 +256,17 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let n = self.n();
         let ends = self.ends(t, y);
-        let harmonic = self.harmonic.map_or(0.0, |h| h.velocity(t).0);
+        let harmonic = self.harmonic_velocity(t);
         let (ys, _) = y[..PER_SECTION * n].as_chunks::<PER_SECTION>();
         let (dys, _) = dy[..PER_SECTION * n].as_chunks_mut::<PER_SECTION>();
-        let (inp, l) = (&self.inputs, &self.links);
+        let inp = &self.inputs;
         let mut left = 0.0; // F_link[i − 1]
         let sections = self.sections.iter().zip(&inp.f_d).zip(&inp.v_sx);
         for (i, ((((sec, f_d), v_sx), yi), dyi)) in sections.zip(ys).zip(dys).enumerate() {
-            let [x, v, s] = *yi;
-            let law = self.law(i, t);
-            let vr = v - (v_sx.at(t) + harmonic);
-            // One exponential where the law's two velocities are equal (LuGre's default).
-            let (ds, f) = law.rate_force_at(s, vr, &law.velocity_terms(vr));
+            let [_, v, s] = *yi;
+            let (ds, f) = self.contact_over(i, t, v_sx.at(t) + harmonic, v, s);
             let right = match ys.get(i + 1) {
-                Some(next) => l.k_s[i] * (next[0] - x) + l.c_s[i] * (next[1] - v),
+                Some(next) => self.link_between(i, yi, next),
                 None => 0.0,
             };
             let mut force = f_d.at(t) + right - left - f;
