@@ -127,7 +127,8 @@ pub struct BandWork {
     f: [Vec<f64>; 3],
     f0: Vec<f64>,
     scal: Vec<f64>,
-    w: [Vec<f64>; 3],
+    /// The error estimate's vectors: `f2` from the stages, the right-hand side at `y + err`.
+    est: [Vec<f64>; 2],
     dw: Vec<f64>,
     dwc: Vec<Complex<f64>>,
     tmp: Vec<f64>,
@@ -151,7 +152,7 @@ impl BandWork {
             f: [v(), v(), v()],
             f0: v(),
             scal: v(),
-            w: [v(), v(), v()],
+            est: [v(), v()],
             dw: v(),
             dwc: vec![Complex::ZERO; n],
             tmp: v(),
@@ -509,10 +510,10 @@ impl BandRadau {
         reject: bool,
     ) -> f64 {
         let n = self.y.len();
-        // f2 = (DD1·z1 + DD2·z2 + DD3·z3)/h, kept in work.w[0]; estimate (U1/h − J)⁻¹·(f0 + f2).
+        // f2 = (DD1·z1 + DD2·z2 + DD3·z3)/h, kept in work.est[0]; estimate (U1/h − J)⁻¹·(f0 + f2).
         {
             let (z1, z2, z3) = (&work.z[0][..n], &work.z[1][..n], &work.z[2][..n]);
-            let (w, dw, f0) = (&mut work.w[0][..n], &mut work.dw[..n], &work.f0[..n]);
+            let (w, dw, f0) = (&mut work.est[0][..n], &mut work.dw[..n], &work.f0[..n]);
             for i in 0..n {
                 let f2 = (DD1 * z1[i] + DD2 * z2[i] + DD3 * z3[i]) / h;
                 w[i] = f2;
@@ -525,10 +526,10 @@ impl BandRadau {
             for i in 0..n {
                 work.tmp[i] = self.y[i] + work.dw[i];
             }
-            sys.rhs(self.t, &work.tmp, &mut work.w[1]);
+            sys.rhs(self.t, &work.tmp, &mut work.est[1]);
             self.stats.rhs_evals += 1;
             for i in 0..n {
-                work.dw[i] = work.w[1][i] + work.w[0][i];
+                work.dw[i] = work.est[1][i] + work.est[0][i];
             }
             work.solve_real();
             err = rms(&work.dw, &work.scal).max(1e-10);
