@@ -35,22 +35,20 @@ fn main() {
     let mut best = f64::INFINITY;
     let mut info = String::new();
     let mut sum = 0.0;
-    if reps == 0 {
-        let sim = Setup::new(scene.config, p)
+    let build = || {
+        Setup::new(scene.config, p)
             .inputs(scene.inputs)
             .tolerance(tol)
             .build()
-            .unwrap();
-        println!("built {:?}", sim.integrator());
+            .unwrap()
+    };
+    if reps == 0 {
+        println!("built {:?}", build().integrator());
         return;
     }
     for _ in 0..reps {
         let start = ProcessTime::now();
-        let mut sim = Setup::new(scene.config, p)
-            .inputs(scene.inputs)
-            .tolerance(tol)
-            .build()
-            .unwrap();
+        let mut sim = build();
         for k in 1..=n {
             sim.step_to(k as f64 * 1e-3).unwrap();
             sum += sim.outputs().f_fx;
