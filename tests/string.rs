@@ -368,6 +368,42 @@ fn a_frictionless_string_moves_its_centre_of_mass_in_closed_form() {
     }
 }
 
+/// Each input keeps its own derivative whatever is set after it at the same instant (as the
+/// single contact's inputs): a frictionless string under a ramp on one section, set first, and
+/// a step force on another, set after it, moves its centre of mass in closed form,
+/// `Σ m·x = (F_0 + F_2)·t²/2 + r·t³/6` over the step of the ramp.
+#[test]
+fn an_input_derivative_survives_other_inputs_set_after_it() {
+    let n = 4;
+    let mut shared = Params {
+        m: M,
+        mu: 0.0,
+        f_n: F_N,
+        ..Params::default()
+    };
+    shared.f_n_ref = F_N;
+    let params = StringParams::uniform(n, shared, K_S, 50.0);
+    let config = StringConfig {
+        law: Law::Dahl,
+        harmonic: false,
+        normal_input: false,
+    };
+    let (f0, r, f2, h) = (1e4, 4e5, 3e3, 0.01);
+    let mut sim = build_string(config, params, 0.0, 1e-8).unwrap();
+    sim.set_input(StringInput::Fd(0), f0).unwrap();
+    sim.set_input_derivative(StringInput::Fd(0), r).unwrap();
+    sim.set_input(StringInput::Fd(2), f2).unwrap();
+    sim.set_input(StringInput::VTop, 0.0).unwrap();
+    sim.step_to(h).unwrap();
+    let moment: f64 = sim.outputs().x.iter().map(|x| M * x).sum();
+    let exact = (f0 + f2) * h * h / 2.0 + r * h * h * h / 6.0;
+    assert!(
+        (moment - exact).abs() < 1e-9 * exact,
+        "{moment} against {exact} (without the ramp {})",
+        (f0 + f2) * h * h / 2.0
+    );
+}
+
 /// Bad parameters and inputs are refused with the variable, its section and the rule; the
 /// simulator keeps its state.
 #[test]
@@ -423,8 +459,49 @@ fn bad_values_are_refused_by_name_and_index() {
     assert!(e.starts_with("v_sx[2] = inf"), "{e}");
     let e = sim.step_to(1e-3).unwrap_err().to_string();
     assert!(e.contains("must be finite and later"), "{e}");
+    // Several at once: all or none, the bad one named.
+    let saved = sim.save();
+    let e = sim
+        .set_inputs(&[(StringInput::Fd(0), 5.0), (StringInput::Vsx(3), f64::NAN)])
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("v_sx[4] = NaN"), "{e}");
+    let e = sim
+        .set_input_derivatives(&[(StringInput::Fd(1), 2.0), (StringInput::Fn(2), 1.0)])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("F_N[3]: this string has no such input"), "{e}");
+    assert_eq!(sim.save(), saved);
     assert_eq!(sim.outputs(), before);
     assert_eq!(sim.time(), 1e-3);
+}
+
+/// Inputs set together are the same inputs set one by one, bit for bit, over the next steps.
+#[test]
+fn inputs_set_together_equal_inputs_set_one_by_one() {
+    let pipe = pipe(5);
+    let (mut a, mut b) = (fed_string(&pipe, 1e-6), fed_string(&pipe, 1e-6));
+    let values = [
+        (StringInput::Fd(1), 300.0),
+        (StringInput::Vsx(3), -2e-3),
+        (StringInput::VBottom, 1e-3),
+    ];
+    let slopes = [(StringInput::Fd(1), -4e4), (StringInput::VTop, 0.5)];
+    for c in 0..3 {
+        a.set_inputs(&values).unwrap();
+        a.set_input_derivatives(&slopes).unwrap();
+        for &(input, x) in &values {
+            b.set_input(input, x).unwrap();
+        }
+        for &(input, d) in &slopes {
+            b.set_input_derivative(input, d).unwrap();
+        }
+        let t = (c + 1) as f64 * 1e-3;
+        a.step_to(t).unwrap();
+        b.step_to(t).unwrap();
+        assert_eq!(a.save(), b.save(), "step {c}");
+    }
+    assert!(a.outputs().v_x[1] != 0.0);
 }
 
 /// A section whose normal force input falls to 0 (lifted off the wall) carries no friction

@@ -170,10 +170,13 @@ impl Instance {
     pub(super) fn string_get(&mut self, call: Call, vrs: &[u32], values: &mut [f64]) -> Answer {
         let targets = self.targets(call, vrs, values.len())?;
         let c = self.scene.config;
-        let asks_outputs = targets.iter().any(
-            |t| matches!(t, Target::Elements(v, ..) if matches!(v.role(&c), Role::Output | Role::Local)),
-        );
-        let outputs = if asks_outputs {
+        let asks = |role: Role| {
+            targets
+                .iter()
+                .any(|t| matches!(t, Target::Elements(v, ..) if v.role(&c) == role))
+        };
+        let (asks_outputs, asks_locals) = (asks(Role::Output), asks(Role::Local));
+        let outputs = if asks_outputs || asks_locals {
             let built;
             let sim = match &self.part().sim {
                 Some(sim) => sim,
@@ -182,7 +185,11 @@ impl Instance {
                     &built
                 }
             };
-            Some((sim.outputs(), Locals::of(sim.as_ref())))
+            // Only what is asked for: the locals cost a right-hand side of the whole string.
+            Some((
+                asks_outputs.then(|| sim.outputs()),
+                asks_locals.then(|| Locals::of(sim.as_ref())),
+            ))
         } else {
             None
         };
@@ -201,8 +208,8 @@ impl Instance {
                 }
                 Target::Elements(var, from, to) => {
                     let src = match (var.role(&c), &outputs) {
-                        (Role::Output, Some((o, _))) => o.values(var),
-                        (Role::Local, Some((_, l))) => l.values(var, part.values.sections),
+                        (Role::Output, Some((Some(o), _))) => o.values(var),
+                        (Role::Local, Some((_, Some(l)))) => l.values(var, part.values.sections),
                         _ => part.values.get(var),
                     };
                     values[k..k + to - from].copy_from_slice(&src[from..to]);
@@ -286,14 +293,14 @@ impl Instance {
         }
         let part = self.string.as_mut().expect("a string scene's instance");
         if let Some(sim) = part.sim.as_mut() {
-            let mut next = sim.clone_box();
-            for &(t, i, x) in &plan {
-                if let Target::Elements(var, ..) = t {
-                    next.set_input(input_of(var, i), x)
-                        .map_err(Refusal::error)?;
-                }
-            }
-            *sim = next;
+            let inputs: Vec<_> = plan
+                .iter()
+                .filter_map(|&(t, i, x)| match t {
+                    Target::Elements(var, ..) => Some((input_of(var, i), x)),
+                    _ => None,
+                })
+                .collect();
+            sim.set_inputs(&inputs).map_err(Refusal::error)?;
         }
         for (t, i, x) in plan {
             match t {
@@ -343,12 +350,12 @@ impl Instance {
         let part = self.string.as_mut().expect("a string scene's instance");
         match part.sim.as_mut() {
             Some(sim) => {
-                let mut next = sim.clone_box();
-                for &(var, i, d) in &plan {
-                    next.set_input_derivative(input_of(var, i), d)
-                        .map_err(Refusal::error)?;
-                }
-                *sim = next;
+                let derivatives: Vec<_> = plan
+                    .iter()
+                    .map(|&(var, i, d)| (input_of(var, i), d))
+                    .collect();
+                sim.set_input_derivatives(&derivatives)
+                    .map_err(Refusal::error)?;
             }
             None => part.derivs.extend(plan),
         }

@@ -197,6 +197,24 @@ impl StringSimulator for Single {
         )
     }
 
+    fn set_inputs(&mut self, values: &[(StringInput, f64)]) -> Result<(), SimError> {
+        let mut next = self.clone();
+        for &(input, value) in values {
+            next.set_input(input, value)?;
+        }
+        *self = next;
+        Ok(())
+    }
+
+    fn set_input_derivatives(&mut self, values: &[(StringInput, f64)]) -> Result<(), SimError> {
+        let mut next = self.clone();
+        for &(input, value) in values {
+            next.set_input_derivative(input, value)?;
+        }
+        *self = next;
+        Ok(())
+    }
+
     fn step_to(&mut self, t_end: f64) -> Result<(), SimError> {
         self.sim.step_to(t_end)
     }
