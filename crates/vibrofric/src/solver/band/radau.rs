@@ -62,6 +62,18 @@ pub trait BandSystem {
     fn chain(&self) -> bool {
         false
     }
+    /// The most blocks (of at most 4 components) iterated alone, their neighbours
+    /// held, where the others have converged in an iteration of the whole system and those
+    /// have not (`local.rs`; 0: never, and [`Self::rhs_block`] is not called).
+    fn max_local(&self) -> usize {
+        0
+    }
+    /// Block `k`'s rows of [`Self::rhs`] at `(t, y)` into `out` (the block's length), the same
+    /// numbers; called only where [`Self::max_local`] is not 0.
+    fn rhs_block(&self, t: f64, y: &[f64], k: usize, out: &mut [f64]) {
+        let _ = (t, y, k, out);
+        unreachable!("rhs_block of a system without local iterations");
+    }
 }
 
 /// What an accepted step hands to the caller.
