@@ -339,6 +339,12 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
         out[..PER_SECTION].copy_from_slice(&rates);
     }
 
+    /// An eighth of the sections (none below 8): an iteration of one section alone costs about
+    /// a hundredth of the string's, so a few of them pay where the rest has converged.
+    fn max_local(&self) -> usize {
+        self.n() / 8
+    }
+
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut Band<f64>) {
         let n = self.n();
         let l = &self.links;
