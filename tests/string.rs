@@ -313,7 +313,7 @@ fn a_longer_drill_string_agrees_with_a_tight_reference_integration() {
         .iter()
         .zip(errors_against_the_reference(16, 0.12, &tols))
     {
-        // Measured at 1e-6: x 2.3, v 2.8, forces 1.6 times the tolerance; at 1e-8: 10, 13 and
+        // Measured at 1e-6: x 1.6, v 2.0, forces 1.2 times the tolerance; at 1e-8: 10, 13 and
         // 6.6 (the reference's own error about 0.2 of it). This run's step sequence through
         // the stick-slip matters: over 6 tolerances from 0.6 to 2 times 1e-6, the largest of
         // the three is 1.8 to 9.5 times the tolerance, from 0.6 to 2 times 1e-8, 5.8 to 16,

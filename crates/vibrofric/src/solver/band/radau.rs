@@ -524,12 +524,14 @@ impl BandRadau {
             if newt > 1 && self.faccon * dyno <= self.fnewt {
                 return Ok(newt);
             }
-            // A few blocks have not converged (`local.rs`): they are iterated alone, then the
-            // whole system once more, whose test above decides.
+            // A few blocks have not converged (`local.rs`) and the next iteration would not
+            // converge either: they are iterated alone, then the whole system once more, whose
+            // test above decides.
             let step = (self.t, h, self.y.as_slice());
             after_sweep = newt > 1
                 && newt < NIT
                 && !swept
+                && self.faccon * dyno * theta > self.fnewt
                 && work.sweep_unconverged(sys, step, (self.fnewt, self.faccon));
             swept |= after_sweep;
         }
