@@ -203,6 +203,32 @@ impl<L: FrictionLaw> StringModel<L> {
         (law, vr, ds, lj)
     }
 
+    /// Section `i`'s rates `[dx/dt, dv/dt, ds/dt]` at `t` from its state `y`: its section
+    /// data, drive force track and support velocity `w`, the forces of the links on either
+    /// side `(F_link[i − 1], F_link[i])` (0 where there is none) and the end forces (those
+    /// acting on it). What [`BandSystem::rhs`] and [`BandSystem::rhs_block`] both evaluate.
+    #[inline(always)]
+    fn section_rates(
+        &self,
+        i: usize,
+        t: f64,
+        (sec, f_d, w): (&Section<L>, &InputTrack, f64),
+        y: &[f64; PER_SECTION],
+        (left, right): (f64, f64),
+        ends: &Forces,
+    ) -> [f64; PER_SECTION] {
+        let [_, v, s] = *y;
+        let (ds, f) = self.contact_over(i, t, w, v, s);
+        let mut force = f_d.at(t) + right - left - f;
+        if i == 0 {
+            force += ends.top;
+        }
+        if i + 1 == self.n() {
+            force -= ends.bottom;
+        }
+        [v, force * sec.inv_m, ds]
+    }
+
     /// The force in link `i` (between sections `i` and `i + 1`, 0-based), tension positive.
     #[inline(always)]
     pub fn link(&self, i: usize, y: &[f64]) -> f64 {
@@ -263,22 +289,60 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
         let mut left = 0.0; // F_link[i − 1]
         let sections = self.sections.iter().zip(&inp.f_d).zip(&inp.v_sx);
         for (i, ((((sec, f_d), v_sx), yi), dyi)) in sections.zip(ys).zip(dys).enumerate() {
-            let [_, v, s] = *yi;
-            let (ds, f) = self.contact_over(i, t, v_sx.at(t) + harmonic, v, s);
             let right = match ys.get(i + 1) {
                 Some(next) => self.link_between(i, yi, next),
                 None => 0.0,
             };
-            let mut force = f_d.at(t) + right - left - f;
-            if i == 0 {
-                force += ends.top;
-            }
-            if i + 1 == n {
-                force -= ends.bottom;
-            }
-            *dyi = [v, force * sec.inv_m, ds];
+            let w = v_sx.at(t) + harmonic;
+            *dyi = self.section_rates(i, t, (sec, f_d, w), yi, (left, right), &ends);
             left = right;
         }
+    }
+
+    /// Section `k`'s rows of [`Self::rhs`], through the same [`StringModel::section_rates`]
+    /// (the same bits).
+    fn rhs_block(&self, t: f64, y: &[f64], k: usize, out: &mut [f64]) {
+        let n = self.n();
+        let (ys, _) = y[..PER_SECTION * n].as_chunks::<PER_SECTION>();
+        let yk = &ys[k];
+        let left = match k.checked_sub(1) {
+            Some(j) => self.link_between(j, &ys[j], yk),
+            None => 0.0,
+        };
+        let right = match ys.get(k + 1) {
+            Some(next) => self.link_between(k, yk, next),
+            None => 0.0,
+        };
+        // Only the ends acting on this section.
+        let last = PER_SECTION * (n - 1);
+        let ends = Forces {
+            top: if k == 0 {
+                self.top_force(t, y[0], y[1])
+            } else {
+                0.0
+            },
+            bottom: if k + 1 == n {
+                self.bottom_force(t, y[last], y[last + 1])
+            } else {
+                0.0
+            },
+        };
+        let (sec, f_d) = (&self.sections[k], &self.inputs.f_d[k]);
+        let rates = self.section_rates(
+            k,
+            t,
+            (sec, f_d, self.support(k, t)),
+            yk,
+            (left, right),
+            &ends,
+        );
+        out[..PER_SECTION].copy_from_slice(&rates);
+    }
+
+    /// An eighth of the sections (none below 8): an iteration of one section alone costs about
+    /// a hundredth of the string's, so a few of them pay where the rest has converged.
+    fn max_local(&self) -> usize {
+        self.n() / 8
     }
 
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut Band<f64>) {
@@ -376,5 +440,131 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
     /// is its own contact's, its velocity feels its neighbours through the links.
     fn chain(&self) -> bool {
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::string::StringParams;
+    use crate::physics::{Dahl, Dupont, LuGre};
+
+    /// Numbers in [−1, 1), the same every run (a linear congruential generator).
+    struct Numbers(u64);
+
+    impl Numbers {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        }
+    }
+
+    /// A string of `n` sections of different masses and loads, both ends held by moving
+    /// points, every input a track with a slope; where the load is an input, sections 0, 3,
+    /// 6, ... hold theirs (the law built once), the others ramp (built at each evaluation), one
+    /// of them below 0 (no load).
+    fn model<L: FrictionLaw>(n: usize, harmonic: bool, normal_input: bool) -> StringModel<L> {
+        let mut r = Numbers(n as u64 + 7);
+        let shared = Params {
+            h_v: 20.0,
+            ..Params::default()
+        };
+        let mut p = StringParams::uniform(n, shared, 1e5, 10.0);
+        for i in 0..n {
+            p.m[i] *= 1.0 + 0.5 * r.next();
+            p.f_n[i] *= 1.0 + 0.5 * r.next();
+        }
+        p.links.k_top = 2e4;
+        p.links.c_top = 5.0;
+        p.links.k_bottom = 3e4;
+        p.links.c_bottom = 7.0;
+        let sections = (0..n)
+            .map(|i| {
+                let q = p.section(i);
+                Section {
+                    law: L::new(&q),
+                    params: q,
+                    inv_m: 1.0 / q.m,
+                }
+            })
+            .collect();
+        let t0 = 0.01;
+        let mut inputs = StringInputs::zero(n, normal_input, &p.f_n, t0);
+        let mut ramp = |tr: &mut InputTrack, value: f64, slope: f64| {
+            tr.value = value * (1.0 + 0.3 * r.next());
+            tr.slope = slope * r.next();
+        };
+        for i in 0..n {
+            ramp(&mut inputs.f_d[i], 3.0, 100.0);
+            ramp(&mut inputs.v_sx[i], 2e-4, 0.1);
+            if normal_input {
+                let hold = i % 3 == 0;
+                ramp(&mut inputs.f_n[i], p.f_n[i], if hold { 0.0 } else { 1e4 });
+            }
+        }
+        if normal_input && n > 1 {
+            inputs.f_n[1].value = -1.0;
+        }
+        ramp(&mut inputs.v_top, 1.2e-3, 0.5);
+        ramp(&mut inputs.v_bottom, -0.5e-3, 0.5);
+        inputs.x_top_ref = 2e-6;
+        inputs.x_bottom_ref = -1e-6;
+        let mut m = StringModel {
+            sections,
+            links: p.links.clone(),
+            harmonic: harmonic.then(|| Harmonic::new(2e-6, 150.0, 0.0, 0.3, t0)),
+            inputs,
+            held: Vec::new(),
+        };
+        m.hold_loads();
+        m
+    }
+
+    /// Every law, with and without the harmonic support and the load as input, strings of 1,
+    /// 2, 3 and 7 sections, states from sticking to sliding either way: each section's rows
+    /// of `rhs_block` are those of `rhs`, bit for bit.
+    fn rows_are_the_rhs<L: FrictionLaw>() {
+        for n in [1, 2, 3, 7] {
+            for harmonic in [false, true] {
+                for normal_input in [false, true] {
+                    let m = model::<L>(n, harmonic, normal_input);
+                    let mut r = Numbers(99);
+                    let mut y = vec![0.0; PER_SECTION * n];
+                    let (mut dy, mut rows) = (vec![0.0; y.len()], [0.0; PER_SECTION]);
+                    for trial in 0..20 {
+                        let t = 0.01 + 1e-4 * trial as f64;
+                        for (i, yi) in y.chunks_mut(PER_SECTION).enumerate() {
+                            let s_ss = m.sections[i].params.f_c() / m.sections[i].params.k_t;
+                            yi[0] = 1e-5 * r.next();
+                            yi[1] = 5e-3 * r.next();
+                            yi[2] = 1.2 * s_ss * r.next();
+                        }
+                        m.rhs(t, &y, &mut dy);
+                        for k in 0..n {
+                            m.rhs_block(t, &y, k, &mut rows);
+                            let at = PER_SECTION * k;
+                            for (j, (a, b)) in rows.iter().zip(&dy[at..]).enumerate() {
+                                assert_eq!(
+                                    a.to_bits(),
+                                    b.to_bits(),
+                                    "n {n} harmonic {harmonic} load input {normal_input} \
+                                     section {k} row {j}: {a} against {b}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_section_alone_has_the_rows_of_the_whole_string() {
+        rows_are_the_rhs::<Dahl>();
+        rows_are_the_rhs::<Dupont>();
+        rows_are_the_rhs::<LuGre>();
     }
 }

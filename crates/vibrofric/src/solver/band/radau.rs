@@ -8,7 +8,9 @@
 //!   attempt costs `O(n)` for a chain of `n` components; for a chain of bodies `[x, v, s]`
 //!   ([`BandSystem::chain`]) both are reduced to tridiagonal systems in the velocities
 //!   ([`ChainLu`], 4 times fewer operations than the band LU), the band LU taking over where a
-//!   pivot of that reduction is small;
+//!   pivot of that reduction is small; where all blocks but a few have converged after an
+//!   iteration, those few are iterated alone before the next iteration of the whole system
+//!   (`local.rs`, [`BandSystem::max_local`]);
 //! - the error estimate of the embedded formula and Gustafsson's predictive step size, as in
 //!   RADAU5;
 //! - landing exactly on the requested end time, and every accepted step's stages handed to the
@@ -61,6 +63,18 @@ pub trait BandSystem {
     /// that structure, the band LU taking over only where a pivot is small.
     fn chain(&self) -> bool {
         false
+    }
+    /// The most blocks (of at most 4 components) iterated alone, their neighbours
+    /// held, where the others have converged in an iteration of the whole system and those
+    /// have not (`local.rs`; 0: never, and [`Self::rhs_block`] is not called).
+    fn max_local(&self) -> usize {
+        0
+    }
+    /// Block `k`'s rows of [`Self::rhs`] at `(t, y)` into `out` (the block's length), the same
+    /// numbers; called only where [`Self::max_local`] is not 0.
+    fn rhs_block(&self, t: f64, y: &[f64], k: usize, out: &mut [f64]) {
+        let _ = (t, y, k, out);
+        unreachable!("rhs_block of a system without local iterations");
     }
 }
 
@@ -116,26 +130,28 @@ pub struct BandRadau {
 /// Scratch space of one integrator: matrices and stage vectors, reused from call to call.
 #[derive(Clone, Debug)]
 pub struct BandWork {
-    jac: Band<f64>,
+    pub(super) jac: Band<f64>,
     e1: BandLu<f64>,
     e2: BandLu<Complex<f64>>,
     c1: ChainLu<f64>,
     c2: ChainLu<Complex<f64>>,
     /// Whether the last factorisation is the chain's (`c1`, `c2`) or the band's (`e1`, `e2`).
     chained: bool,
-    z: [Vec<f64>; 3],
+    pub(super) z: [Vec<f64>; 3],
     f: [Vec<f64>; 3],
     f0: Vec<f64>,
-    scal: Vec<f64>,
+    pub(super) scal: Vec<f64>,
     /// The error estimate's vectors: `f2` from the stages, the right-hand side at `y + err`.
     est: [Vec<f64>; 2],
-    dw: Vec<f64>,
-    dwc: Vec<Complex<f64>>,
+    pub(super) dw: Vec<f64>,
+    pub(super) dwc: Vec<Complex<f64>>,
     tmp: Vec<f64>,
     /// The stages `y + z_i` of the step handed to the caller.
     pub stages: [Vec<f64>; 3],
     /// The blocks of the attempted step whose own error failed.
     refine: Vec<usize>,
+    /// The blocks iterated alone in the attempt's Newton iteration (`local.rs`).
+    pub(super) local: Vec<usize>,
 }
 
 impl BandWork {
@@ -158,6 +174,7 @@ impl BandWork {
             tmp: v(),
             stages: [v(), v(), v()],
             refine: Vec::new(),
+            local: Vec::new(),
         }
     }
 
@@ -390,7 +407,10 @@ impl BandRadau {
             .min(span)
             .max(1e-14 * (1.0 + self.t.abs()))
     }
+}
 
+/// The attempt of a step: starting values, Newton's iteration, the error estimate.
+impl BandRadau {
     /// The stage increments' first guess: the last step's collocation polynomial, extrapolated.
     fn starting_values(&self, work: &mut BandWork, h: f64) {
         let n = self.y.len();
@@ -422,7 +442,10 @@ impl BandRadau {
         }
         self.faccon = libm::pow(self.faccon.max(f64::EPSILON), 0.8);
         let mut dyno_old = 0.0;
-        let mut theta_old = 0.0;
+        let (mut theta, mut theta_old) = (0.0, 0.0);
+        // Whether the blocks that had not converged were iterated alone in this attempt, and
+        // whether just before this iteration.
+        let (mut swept, mut after_sweep) = (false, false);
         for newt in 1..=NIT {
             for k in 0..3 {
                 let tmp = &mut work.tmp[..n];
@@ -474,9 +497,11 @@ impl BandRadau {
             if !dyno.is_finite() {
                 return Err(0.5);
             }
-            if newt > 1 {
+            // After a sweep of blocks alone the update measures what the sweep left, not the
+            // contraction of this iteration: the contraction measured before it stands.
+            if newt > 1 && !after_sweep {
                 let thq = dyno / dyno_old;
-                let theta = if newt == 2 {
+                theta = if newt == 2 {
                     thq
                 } else {
                     (thq * theta_old).sqrt()
@@ -486,6 +511,8 @@ impl BandRadau {
                     return Err(0.5);
                 }
                 self.faccon = theta / (1.0 - theta);
+            }
+            if newt > 1 {
                 let dyth =
                     self.faccon * dyno * libm::pow(theta, (NIT - 1 - newt) as f64) / self.fnewt;
                 if dyth >= 1.0 {
@@ -497,6 +524,16 @@ impl BandRadau {
             if newt > 1 && self.faccon * dyno <= self.fnewt {
                 return Ok(newt);
             }
+            // A few blocks have not converged (`local.rs`) and the next iteration would not
+            // converge either: they are iterated alone, then the whole system once more, whose
+            // test above decides.
+            let step = (self.t, h, self.y.as_slice());
+            after_sweep = newt > 1
+                && newt < NIT
+                && !swept
+                && self.faccon * dyno * theta > self.fnewt
+                && work.sweep_unconverged(sys, step, (self.fnewt, self.faccon));
+            swept |= after_sweep;
         }
         Err(0.5)
     }
