@@ -380,8 +380,8 @@ fn accept_step<L: FrictionLaw>(
 ) -> Result<(), SolverError> {
     let n = model.n();
     let (t, h) = (step.t, step.h);
-    // The sections integrated again, each against the string's step; then their new states
-    // and the links' impulses made to agree (`refine::reflux`).
+    // The sections integrated again, each against the string's step; then (after the step's
+    // integrals) their new states and the links' impulses made to agree (`refine::reflux`).
     let mut refined: Vec<(usize, refine::Refined)> = Vec::with_capacity(step.refine.len());
     if !step.refine.is_empty() {
         model.error_scale(step.y0, scratch);
@@ -409,9 +409,7 @@ fn accept_step<L: FrictionLaw>(
         stats.events += r.stats.events;
         refined.push((i, r));
     }
-    if !refined.is_empty() {
-        refine::reflux(model, h, step.y0, step.stages, &refined);
-    }
+    // The integrals on the stages Newton solved, before `reflux` corrects the last one.
     let stages = &*step.stages;
     let mut next = refined.iter().peekable();
     for (i, integral) in integrals[..n].iter_mut().enumerate() {
@@ -424,32 +422,34 @@ fn accept_step<L: FrictionLaw>(
             *integral += B[k] * h * model.contact(i, t + C[k] * h, y[kv], y[ks]).1;
         }
     }
-    // The end forces: by the collocation quadrature, or from the position integral of an end
-    // section integrated again (the ends' points in closed form).
-    let own_position = |i: usize| refined.iter().find(|o| o.0 == i).map(|o| o.1.position);
+    // The end forces: by the collocation quadrature, or from the position integral and the
+    // displacement of an end section integrated again (the ends' points in closed form).
+    let own = |i: usize| refined.iter().find(|o| o.0 == i).map(|o| &o.1);
     let (l, inp) = (&model.links, &model.inputs);
     let last = PER_SECTION * (n - 1);
     let (x_top_int, x_bottom_int) = inp.end_position_integrals(t, step.t1);
-    integrals[n] += match own_position(0) {
-        Some(x_int) => {
-            l.k_top * (x_top_int - x_int)
-                + l.c_top * ((inp.x_top(step.t1) - inp.x_top(t)) - (stages[2][0] - step.y0[0]))
+    integrals[n] += match own(0) {
+        Some(r) => {
+            l.k_top * (x_top_int - r.position)
+                + l.c_top * ((inp.x_top(step.t1) - inp.x_top(t)) - (r.y[0] - step.y0[0]))
         }
         None => (0..3)
             .map(|k| B[k] * h * model.ends(t + C[k] * h, &stages[k]).top)
             .sum(),
     };
-    integrals[n + 1] += match own_position(n - 1) {
-        Some(x_int) => {
-            l.k_bottom * (x_int - x_bottom_int)
+    integrals[n + 1] += match own(n - 1) {
+        Some(r) => {
+            l.k_bottom * (r.position - x_bottom_int)
                 + l.c_bottom
-                    * ((stages[2][last] - step.y0[last])
-                        - (inp.x_bottom(step.t1) - inp.x_bottom(t)))
+                    * ((r.y[0] - step.y0[last]) - (inp.x_bottom(step.t1) - inp.x_bottom(t)))
         }
         None => (0..3)
             .map(|k| B[k] * h * model.ends(t + C[k] * h, &stages[k]).bottom)
             .sum(),
     };
+    if !refined.is_empty() {
+        refine::reflux(model, h, step.y0, step.stages, &refined);
+    }
     Ok(())
 }
 

@@ -341,7 +341,10 @@ pub fn refine<L: FrictionLaw>(
 /// again), and every section the difference it did not get, as a change of its velocity (and
 /// of its position by half the step times it). Then the string's momentum changes over the step
 /// by exactly the external impulses, as its equations say. Writes the new states of the
-/// sections integrated again (`refined`, ascending) into the last stage.
+/// sections integrated again (`refined`, ascending) into the last stage. The step's integrals
+/// are taken before: a section's momentum changes by the quadrature of its forces on the stages
+/// Newton solved (and the correction's impulse), so its friction integral on the corrected
+/// stage would miss that by `B₃·h·∂F/∂v·Δv`.
 pub fn reflux<L: FrictionLaw>(
     model: &StringModel<L>,
     h: f64,

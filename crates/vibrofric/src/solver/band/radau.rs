@@ -297,6 +297,11 @@ impl BandRadau {
                 });
             }
             let mut h = self.h;
+            let proposed = h;
+            if self.t + 2.0 * h > t_end && self.t + 1.0001 * h < t_end {
+                // Two equal steps to t_end rather than a full one and a stub.
+                h = 0.5 * (t_end - self.t);
+            }
             if self.t + 1.0001 * h >= t_end {
                 h = t_end - self.t;
             } else if h <= 10.0 * self.t.abs().max(1e-300) * f64::EPSILON {
@@ -381,6 +386,10 @@ impl BandRadau {
             let mut h_new = h / quot;
             if reject {
                 h_new = h_new.min(h);
+            } else if h < proposed {
+                // A step cut to land on t_end says nothing against the step proposed before
+                // the cut: keep that, unless this step's own error asks for less.
+                h_new = h_new.max(proposed.min(h * fac / err.sqrt().sqrt()));
             }
             reject = false;
             self.h = h_new;

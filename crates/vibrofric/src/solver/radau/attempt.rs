@@ -156,7 +156,7 @@ impl<const N: usize> Radau5<N> {
         // The crossing is at the current time: flip and restart.
         self.switch_sign[k] = -self.switch_sign[k];
         self.stats.events += 1;
-        self.first = true;
+        self.start_afresh();
         Switching::Retake
     }
 
@@ -222,7 +222,7 @@ impl<const N: usize> Radau5<N> {
         if let Some(k) = event_here {
             self.switch_sign[k] = -self.switch_sign[k];
             self.stats.events += 1;
-            self.first = true;
+            self.start_afresh();
             self.after_event = true;
             if self.h_event > 0.0 {
                 self.h = self.h_event;
