@@ -97,6 +97,17 @@ pub struct Section<L> {
     pub inv_m: f64,
 }
 
+impl<L: FrictionLaw> Section<L> {
+    /// The section of parameters `p` (its own reference load).
+    pub fn new(p: Params) -> Self {
+        Section {
+            law: L::new(&p),
+            params: p,
+            inv_m: 1.0 / p.m,
+        }
+    }
+}
+
 /// The ends and links.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Links {
@@ -481,16 +492,7 @@ mod tests {
         p.links.c_top = 5.0;
         p.links.k_bottom = 3e4;
         p.links.c_bottom = 7.0;
-        let sections = (0..n)
-            .map(|i| {
-                let q = p.section(i);
-                Section {
-                    law: L::new(&q),
-                    params: q,
-                    inv_m: 1.0 / q.m,
-                }
-            })
-            .collect();
+        let sections = (0..n).map(|i| Section::new(p.section(i))).collect();
         let t0 = 0.01;
         let mut inputs = StringInputs::zero(n, normal_input, &p.f_n, t0);
         let mut ramp = |tr: &mut InputTrack, value: f64, slope: f64| {

@@ -252,16 +252,7 @@ struct StringSim<L> {
 impl<L: FrictionLaw> StringSim<L> {
     fn new(config: StringConfig, params: StringParams, t: f64, tol: f64) -> Self {
         let n = params.sections();
-        let sections = (0..n)
-            .map(|i| {
-                let p = params.section(i);
-                Section {
-                    law: L::new(&p),
-                    params: p,
-                    inv_m: 1.0 / p.m,
-                }
-            })
-            .collect();
+        let sections = (0..n).map(|i| Section::new(params.section(i))).collect();
         let sh = &params.shared;
         let harmonic = config
             .harmonic
