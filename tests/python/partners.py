@@ -12,6 +12,7 @@ import csv
 import io
 import os
 import pathlib
+import re
 import shutil
 import subprocess
 
@@ -345,3 +346,128 @@ def run_fmpy3(fmu, points, steps):
             rows.append(row)
         s.terminate()
     return {name: np.array([r[name] for r in rows]) for name in rows[0]}
+
+
+# ---- fmusim and the FMU Compliance Checker: optional, run when installed -----------------------
+
+
+def optional_exe(variable, name):
+    """An optional importer's executable: $variable, else `name` on PATH, else None."""
+    if os.environ.get(variable):
+        return pathlib.Path(os.environ[variable])
+    exe = shutil.which(name)
+    return pathlib.Path(exe) if exe else None
+
+
+def fmusim_exe():
+    """fmusim (github.com/modelica/fmusim, the Rust command line tool that took over from the
+    Reference FMUs' C fmusim): $FMUSIM, else `fmusim` on PATH."""
+    return optional_exe("FMUSIM", "fmusim")
+
+
+def fmu_check_exe():
+    """The FMU Compliance Checker (github.com/modelica-tools/FMUComplianceChecker, FMI 2.0 only):
+    $FMU_CHECK, else `fmuCheck.linux64` on PATH."""
+    return optional_exe("FMU_CHECK", "fmuCheck.linux64")
+
+
+def fmusim_version():
+    """`fmusim --version` prints `fmusim 0.8.0`; None for another program of that name (the
+    Reference FMUs' C fmusim has another command line)."""
+    p = subprocess.run([str(fmusim_exe()), "--version"], capture_output=True, text=True, timeout=60)
+    m = re.fullmatch(r"fmusim (\d+\.\d+\.\d+)", p.stdout.strip())
+    return m.group(1) if p.returncode == 0 and m else None
+
+
+def read_tool_csv(text):
+    """A CSV file of fmusim or the Compliance Checker: columns by name (the Checker quotes the
+    names); a cell of space-separated numbers (fmusim's FMI 3.0 array of n values) becomes the
+    columns name[1] ... name[n], as the FMI 2.0 edition names them."""
+    rows = [r for r in csv.reader(io.StringIO(text)) if r]
+    columns = {}
+    for k, name in enumerate(c.strip().strip('"') for c in rows[0]):
+        cells = [r[k].split() for r in rows[1:]]
+        n = len(cells[0])
+        assert all(len(c) == n for c in cells), f"{name}: arrays of different lengths"
+        for i in range(n):
+            columns[name if n == 1 else f"{name}[{i + 1}]"] = np.array([float(c[i]) for c in cells])
+    return columns
+
+
+def differenced_grid(h, n):
+    """A master's points t_k = k·h and steps t_(k+1) − t_k (fmpy's simulate_fmu, fmusim)."""
+    t = np.arange(n + 1) * h
+    return t[:-1], np.diff(t), t[1:]
+
+
+def fmu_check_grid(h, stop):
+    """The Compliance Checker's Co-Simulation loop (src/FMI2/fmi2_cs_sim.c): t += h, and the
+    step that would end past stop − 1e-3·h shortened or lengthened to end on stop."""
+    t, points, steps, ends = 0.0, [], [], []
+    while t < stop:
+        t_next = t + h
+        step = h
+        if t_next > stop - 1e-3 * h:
+            step, t_next = stop - t, stop
+        points.append(t)
+        steps.append(step)
+        ends.append(t_next)
+        t = t_next
+    return np.array(points), np.array(steps), np.array(ends)
+
+
+def outputs_after_each_step(columns, fmu, ends):
+    """The rows after each step (time > 0) of every output of the FMI 2.0 edition `fmu`; the
+    time column must be `ends`."""
+    t = columns.pop("time")
+    keep = t > 0
+    np.testing.assert_array_equal(t[keep], ends)
+    names = {name for name, _ in outputs_of(fmu)}
+    assert set(columns) == names, sorted(set(columns) ^ names)
+    return {name: v[keep] for name, v in columns.items()}
+
+
+def run_fmusim(fmu, h, n, tmp_path, interface="cs", extra=()):
+    """fmusim's run of n steps of h (--output-interval h, --stop-time n·h); returns the process
+    and the columns of its CSV file."""
+    out = tmp_path / "fmusim.csv"
+    out.unlink(missing_ok=True)
+    args = [str(fmusim_exe()), "simulate", "--interface-type", interface,
+            "--output-interval", repr(h), "--stop-time", repr(n * h), "--output-file", str(out),
+            *extra, str(fmu)]
+    p = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    return p, (read_tool_csv(out.read_text()) if p.returncode == 0 else None)
+
+
+def run_fmusim_checked(fmu, h, n, tmp_path):
+    """fmusim's Co-Simulation, which must exit 0 and print nothing (it stops with `error: ...`
+    when an FMI call fails)."""
+    p, columns = run_fmusim(fmu, h, n, tmp_path)
+    assert p.returncode == 0 and not (p.stdout + p.stderr).strip(), p.stdout + p.stderr
+    return columns
+
+
+# The end of the Compliance Checker's log when neither the FMU nor the Checker reported a problem.
+FMU_CHECK_CLEAN = ("FMU reported:\n\t0 warning(s) and error(s)\n"
+                   "Checker reported:\n\t0 Warning(s)\n\t0 Error(s)")
+
+
+def run_fmu_check(fmu, tmp_path, *options):
+    """The Compliance Checker with `options` (log level 3: warnings and errors); returns its
+    exit status, its log and its output file's text."""
+    out, log, unzip = tmp_path / "check.csv", tmp_path / "check.log", tmp_path / "check-unzipped"
+    unzip.mkdir(exist_ok=True)
+    args = [str(fmu_check_exe()), *options, "-l", "3", "-o", str(out), "-e", str(log),
+            "-z", str(unzip), str(fmu)]
+    p = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    return (p.returncode, log.read_text() if log.exists() else p.stdout + p.stderr,
+            out.read_text() if out.exists() else "")
+
+
+def run_fmu_check_cs(fmu, h, n, tmp_path):
+    """The Checker's XML check and Co-Simulation with step h to n·h, every step written (-n 0,
+    values as %.16E: exact); it must report no warning and no error."""
+    status, log, text = run_fmu_check(fmu, tmp_path, "-k", "cs", "-h", repr(h), "-s", repr(n * h),
+                                      "-n", "0")
+    assert status == 0 and log.strip().endswith(FMU_CHECK_CLEAN), log
+    return read_tool_csv(text)
