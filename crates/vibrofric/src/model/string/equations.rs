@@ -131,6 +131,21 @@ pub struct StringModel<L> {
     /// that a held load input does not rebuild its law at every evaluation
     /// ([`StringModel::hold_loads`]); a load that differs builds its own.
     pub held: Vec<(f64, L)>,
+    /// Per section, what its error scale takes from the parameters alone
+    /// ([`BandSystem::error_scale`]), built with the model.
+    scale_base: Vec<ScaleBase>,
+}
+
+/// What a section's error scale takes from its parameters, the links' and the harmonic
+/// support's: its position's floor, its velocity's and deformation's natural scales, the
+/// stiffer of the springs that hold it and its Coulomb force.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct ScaleBase {
+    x: f64,
+    v: f64,
+    s: f64,
+    k_spring: f64,
+    f_c: f64,
 }
 
 /// The forces at one state: friction per section and the two ends (links are computed where
@@ -141,6 +156,55 @@ pub struct Forces {
 }
 
 impl<L: FrictionLaw> StringModel<L> {
+    /// The string of `sections` joined by `links`, on the harmonic support `harmonic` (if
+    /// any), with the input tracks `inputs`.
+    pub fn new(
+        sections: Vec<Section<L>>,
+        links: Links,
+        harmonic: Option<Harmonic>,
+        inputs: StringInputs,
+    ) -> Self {
+        let u0 = harmonic.map_or(0.0, |h| h.u0);
+        let v_a = harmonic.map_or(0.0, |h| h.v_a());
+        let n = sections.len();
+        let scale_base = sections
+            .iter()
+            .enumerate()
+            .map(|(i, sec)| {
+                let left = if i == 0 {
+                    links.k_top
+                } else {
+                    links.k_s[i - 1]
+                };
+                let right = if i + 1 < n {
+                    links.k_s[i]
+                } else {
+                    links.k_bottom
+                };
+                let s_nom = sec.law.s_scale();
+                let v_nom = v_a
+                    .max(s_nom * (sec.params.k_t / sec.params.m).sqrt())
+                    .max(1e-9);
+                let omega = ((sec.params.k_t + left + right) * sec.inv_m).sqrt();
+                ScaleBase {
+                    x: s_nom.max(u0).max(v_nom / omega),
+                    v: v_nom,
+                    s: s_nom,
+                    k_spring: left.max(right),
+                    f_c: sec.params.f_c(),
+                }
+            })
+            .collect();
+        StringModel {
+            sections,
+            links,
+            harmonic,
+            inputs,
+            held: Vec::new(),
+            scale_base,
+        }
+    }
+
     pub fn n(&self) -> usize {
         self.sections.len()
     }
@@ -404,34 +468,24 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
     /// scale is in position over the section's fastest time constant `sqrt(m/k)` (`k` the
     /// contact's and links' stiffness together).
     fn error_scale(&self, y: &[f64], out: &mut [f64]) {
-        let u0 = self.harmonic.map_or(0.0, |h| h.u0);
-        let v_a = self.harmonic.map_or(0.0, |h| h.v_a());
         let n = self.n();
-        let l = &self.links;
         let ends = self.ends(self.inputs.v_top.t_ref, y);
-        // (stiffness, |force|) of the spring on each side of the section.
-        let mut left = (l.k_top, ends.top.abs());
-        for (i, sec) in self.sections.iter().enumerate() {
+        // |force| of the spring on each side of the section.
+        let mut left = ends.top.abs();
+        for (i, b) in self.scale_base.iter().enumerate() {
             let k = PER_SECTION * i;
             let right = if i + 1 < n {
-                (l.k_s[i], self.link(i, y).abs())
+                self.link(i, y).abs()
             } else {
-                (l.k_bottom, ends.bottom.abs())
+                ends.bottom.abs()
             };
-            let s_nom = sec.law.s_scale();
-            let v_nom = v_a
-                .max(s_nom * (sec.params.k_t / sec.params.m).sqrt())
-                .max(1e-9);
-            let omega = ((sec.params.k_t + left.0 + right.0) * sec.inv_m).sqrt();
-            let mut x_scale = s_nom.max(u0).max(v_nom / omega);
-            let k_spring = left.0.max(right.0);
-            if k_spring > 0.0 {
-                let f_c = sec.params.f_c();
-                x_scale = x_scale.max((f_c + left.1.max(right.1)) / k_spring);
+            let mut x_scale = b.x;
+            if b.k_spring > 0.0 {
+                x_scale = x_scale.max((b.f_c + left.max(right)) / b.k_spring);
             }
             out[k] = x_scale;
-            out[k + 1] = v_nom + y[k + 1].abs();
-            out[k + 2] = s_nom + y[k + 2].abs();
+            out[k + 1] = b.v + y[k + 1].abs();
+            out[k + 2] = b.s + y[k + 2].abs();
             left = right;
         }
     }
@@ -514,13 +568,12 @@ mod tests {
         ramp(&mut inputs.v_bottom, -0.5e-3, 0.5);
         inputs.x_top_ref = 2e-6;
         inputs.x_bottom_ref = -1e-6;
-        let mut m = StringModel {
+        let mut m = StringModel::new(
             sections,
-            links: p.links.clone(),
-            harmonic: harmonic.then(|| Harmonic::new(2e-6, 150.0, 0.0, 0.3, t0)),
+            p.links.clone(),
+            harmonic.then(|| Harmonic::new(2e-6, 150.0, 0.0, 0.3, t0)),
             inputs,
-            held: Vec::new(),
-        };
+        );
         m.hold_loads();
         m
     }

@@ -257,13 +257,12 @@ impl<L: FrictionLaw> StringSim<L> {
         let harmonic = config
             .harmonic
             .then(|| Harmonic::new(sh.u0, sh.f, 0.0, sh.phase, t));
-        let model = StringModel {
+        let model = StringModel::new(
             sections,
-            links: params.links.clone(),
+            params.links.clone(),
             harmonic,
-            inputs: StringInputs::zero(n, config.normal_input, &params.f_n, t),
-            held: Vec::new(),
-        };
+            StringInputs::zero(n, config.normal_input, &params.f_n, t),
+        );
         let mut radau = BandRadau::new(t, vec![0.0; PER_SECTION * n], tol);
         radau.step_limit = sh.max_steps as u64;
         let mut sim = StringSim {
