@@ -2,9 +2,16 @@
 //! simplified Newton iteration of the whole chain has converged in all blocks but a few (a body
 //! at a reversal of its contact, whose friction changes within the step), those blocks are
 //! iterated on their own rows, at the cost of a block rather than of the chain, then their
-//! neighbours outwards (Gauss–Seidel). This only supplies a better iterate: one more iteration
-//! of the whole system follows, whose own convergence test decides as before, so the step's
-//! result is the collocation solution to the same Newton tolerance.
+//! neighbours outwards (Gauss–Seidel). Where that settles them (each converged alone, below the
+//! Newton tolerance, the correction died out on either side before the budget, and at the end
+//! each block of the set, its neighbours now moved, needed no correction), every block has
+//! passed its own convergence test, each as strict as the whole system's, and the iteration
+//! has converged; otherwise one more
+//! iteration of the whole system follows, whose own test decides as before. Either way the
+//! step's result is the collocation solution to the Newton tolerance. Accepting a settled
+//! sweep instead of iterating the whole system once more: on a drill string of LuGre sections
+//! (`examples/string_bench.rs`, tolerance 1e-6, 0.1 s) 1.6 % fewer instructions at 20
+//! sections, 2.7 % at 100, the errors against `tests/string.rs`'s reference as before.
 //!
 //! A block's iteration is the whole system's restricted to its rows: the same transformed
 //! residual `T⁻¹·F − (Λ/h)·W` on those rows, solved with the diagonal block of the step's
@@ -80,18 +87,18 @@ fn solve_block(
 impl BandWork {
     /// After an iteration of the whole system (its update still in `dw`, `dwc`) that has not
     /// converged, where at most [`BandSystem::max_local`] blocks fail their own test, iterates
-    /// them alone ([`Self::local_sweep`]): whether it did.
+    /// them alone ([`Self::local_sweep`]): `None` where it did not, else whether that settled
+    /// them.
     pub(super) fn sweep_unconverged<S: BandSystem>(
         &mut self,
         sys: &S,
         step: (f64, f64, &[f64]),
         (fnewt, faccon): (f64, f64),
-    ) -> bool {
+    ) -> Option<bool> {
         if !self.few_unconverged(sys.block(), sys.max_local(), fnewt, faccon) {
-            return false;
+            return None;
         }
-        self.local_sweep(sys, step, (fnewt, faccon));
-        true
+        Some(self.local_sweep(sys, step, (fnewt, faccon)))
     }
 
     /// Whether, after an iteration of the whole system (its update still in `dw`, `dwc`), at
@@ -134,14 +141,18 @@ impl BandWork {
     /// neighbour's first update is not negligible (at most [`SPREAD`] per block in `local`),
     /// from the stage increments `z` of the step `(t, h)` from `y`; `faccon` is the whole
     /// system's contraction factor, `fnewt` its Newton tolerance. Blocks that do not contract
-    /// alone are left as they were.
+    /// alone are left as they were. Whether the sweep settled them: every block converged
+    /// alone, the walk from it ended either way on a neighbour that needed no correction, at an
+    /// end of the chain or at another block of the set (not on the budget), and then every
+    /// block of the set needed no correction.
     fn local_sweep<S: BandSystem>(
         &mut self,
         sys: &S,
         step: (f64, f64, &[f64]),
         (fnewt, faccon): (f64, f64),
-    ) {
+    ) -> bool {
         let y = step.2;
+        let mut settled = true;
         for k in 0..3 {
             for ((s, y), z) in self.stages[k].iter_mut().zip(y).zip(&self.z[k]) {
                 *s = y + z;
@@ -153,23 +164,40 @@ impl BandWork {
         let mut budget = SPREAD * blocks.len();
         for &k in &blocks {
             if self.local_newton(sys, step, k, goal).is_none() {
+                settled = false;
                 continue;
             }
             // Left, then right: until a neighbour needs no correction, is in the set, does
             // not contract alone or the budget is spent.
             for dir in [-1isize, 1] {
                 let mut j = k as isize + dir;
-                while budget > 0 && (0..n as isize).contains(&j) && !blocks.contains(&(j as usize))
-                {
+                while (0..n as isize).contains(&j) && !blocks.contains(&(j as usize)) {
+                    if budget == 0 {
+                        settled = false;
+                        break;
+                    }
                     budget -= 1;
                     match self.local_newton(sys, step, j as usize, goal) {
                         Some(first) if faccon * first > goal.0 => j += dir,
-                        _ => break,
+                        Some(_) => break,
+                        None => {
+                            settled = false;
+                            break;
+                        }
                     }
                 }
             }
         }
+        // A block of the set was iterated against its neighbours' values before the walks
+        // from the others moved them: settled where it now needs no correction.
+        if settled {
+            settled = blocks.iter().all(|&k| {
+                self.local_newton(sys, step, k, goal)
+                    .is_some_and(|first| faccon * first <= goal.0)
+            });
+        }
         self.local = blocks;
+        settled
     }
 
     /// Iterates block `k` alone (its neighbours' stages held in `stages`) until its own

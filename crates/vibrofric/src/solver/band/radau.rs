@@ -560,15 +560,20 @@ impl BandRadau {
                 return Ok((newt, theta));
             }
             // A few blocks have not converged (`local.rs`) and the next iteration would not
-            // converge either: they are iterated alone, then the whole system once more, whose
-            // test above decides.
+            // converge either: they are iterated alone; unless that settled them all, the whole
+            // system once more, whose test above decides.
             let step = (self.t, h, self.y.as_slice());
-            after_sweep = newt > 1
-                && newt < NIT
-                && !swept
-                && self.faccon * dyno * theta > self.fnewt
-                && work.sweep_unconverged(sys, step, (self.fnewt, self.faccon));
+            let sweep =
+                (newt > 1 && newt < NIT && !swept && self.faccon * dyno * theta > self.fnewt)
+                    .then(|| work.sweep_unconverged(sys, step, (self.fnewt, self.faccon)))
+                    .flatten();
+            after_sweep = sweep.is_some();
             swept |= after_sweep;
+            // Where the sweep settled every block it took, every block has passed its own
+            // test: converged.
+            if sweep == Some(true) {
+                return Ok((newt, theta));
+            }
         }
         Err(0.5)
     }
