@@ -377,6 +377,13 @@ impl<const N: usize, V: Vector, L: FrictionLaw, D: DriveKind<V>> OdeSystem<N>
         [f.x(), f.y()]
     }
 
+    /// One evaluation of the contact for both.
+    #[inline(always)]
+    fn rhs_quadrature(&self, t: f64, y: &SVector<f64, N>) -> (SVector<f64, N>, Quad) {
+        let e = self.eval(t, y.as_slice());
+        (self.rhs_at(&e, y.as_slice()), [e.f.x(), e.f.y()])
+    }
+
     fn quadrature_scale(&self) -> f64 {
         self.force_scale
     }

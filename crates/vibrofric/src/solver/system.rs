@@ -60,6 +60,11 @@ pub trait OdeSystem<const N: usize> {
     fn quadrature(&self, _t: f64, _y: &SVector<f64, N>) -> Quad {
         [0.0; MAX_QUAD]
     }
+    /// `f(t, y)` and the integrands together, for systems that share work between them (the
+    /// same numbers as [`OdeSystem::rhs`] and [`OdeSystem::quadrature`]).
+    fn rhs_quadrature(&self, t: f64, y: &SVector<f64, N>) -> (SVector<f64, N>, Quad) {
+        (self.rhs(t, y), self.quadrature(t, y))
+    }
     /// Natural magnitude of every `q`: the error of each integral over a step of length `h` is
     /// kept below `rtol·scale·h`. Zero: no quadrature.
     fn quadrature_scale(&self) -> f64 {

@@ -207,6 +207,13 @@ impl<L: FrictionLaw> OdeSystem<3> for SectionOde<'_, L> {
         [self.eval(t, y).f, y[0]]
     }
 
+    /// One evaluation of the law for both.
+    #[inline(always)]
+    fn rhs_quadrature(&self, t: f64, y: &SVector<f64, 3>) -> (SVector<f64, 3>, Quad) {
+        let e = self.eval(t, y);
+        (self.rhs_at(t, y, &e), [e.f, y[0]])
+    }
+
     fn quadrature_scale(&self) -> f64 {
         self.force_scale
     }

@@ -215,8 +215,7 @@ impl<const N: usize> Radau5<N> {
         let q_steers = sys.quadrature_steers().min(MAX_QUAD);
         let n_switch = sys.n_switch().min(MAX_SWITCH);
         self.init_switch_signs(sys, n_switch);
-        let mut f0 = sys.rhs(self.t, &self.y);
-        let mut q0 = sys.quadrature(self.t, &self.y);
+        let (mut f0, mut q0) = sys.rhs_quadrature(self.t, &self.y);
         self.stats.rhs_evals += 1;
         if !f0.iter().all(|v| v.is_finite()) {
             return Err(SolverError::NonFinite { t: self.t });
@@ -302,8 +301,7 @@ impl<const N: usize> Radau5<N> {
             if event_here.is_some() {
                 event_target = None;
             }
-            f0 = sys.rhs(self.t, &self.y);
-            q0 = sys.quadrature(self.t, &self.y);
+            (f0, q0) = sys.rhs_quadrature(self.t, &self.y);
             self.stats.rhs_evals += 1;
         }
         Ok(())
