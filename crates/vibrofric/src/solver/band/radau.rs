@@ -3,14 +3,17 @@
 //!
 //! The method and its constants are those of [`crate::solver::Radau5`] (`radau/tableau.rs`);
 //! what differs is the linear algebra and the bookkeeping, sized at run time:
-//! - RADAU5's simplified Newton iteration with one Jacobian per step, split by the eigenvectors
+//! - RADAU5's simplified Newton iteration with one Jacobian per step (kept, with its
+//!   factorisation, after a step whose iteration contracted fast: [`KEEP_JACOBIAN`]), split by
+//!   the eigenvectors
 //!   of the Butcher matrix into one real and one complex band system ([`BandLu`]), so that an
 //!   attempt costs `O(n)` for a chain of `n` components; for a chain of bodies `[x, v, s]`
 //!   ([`BandSystem::chain`]) both are reduced to tridiagonal systems in the velocities
 //!   ([`ChainLu`], 4 times fewer operations than the band LU), the band LU taking over where a
 //!   pivot of that reduction is small; where all blocks but a few have converged after an
-//!   iteration, those few are iterated alone before the next iteration of the whole system
-//!   (`local.rs`, [`BandSystem::max_local`]);
+//!   iteration, those few are iterated alone, and where that settles them the iteration has
+//!   converged, else the next iteration of the whole system decides (`local.rs`,
+//!   [`BandSystem::max_local`]);
 //! - the error estimate of the embedded formula and Gustafsson's predictive step size, as in
 //!   RADAU5;
 //! - landing exactly on the requested end time, and every accepted step's stages handed to the
