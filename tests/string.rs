@@ -303,8 +303,8 @@ fn assert_agrees_with_the_reference(n: usize, bound: f64) {
 
 #[test]
 fn a_drill_string_agrees_with_a_tight_reference_integration() {
-    // Within the tolerance's order. Measured at 1e-6: 0.28, 0.42 and 0.07 times the
-    // tolerance; at 1e-8: 1.8, 0.48 and 0.51 times it (the reference's own error is 5e-9 of F_C
+    // Within the tolerance's order. Measured at 1e-6: 0.29, 0.44 and 0.07 times the
+    // tolerance; at 1e-8: 1.9, 0.49 and 0.51 times it (the reference's own error is 5e-9 of F_C
     // there). Each section's error is held on its own, the reversals integrated again.
     assert_agrees_with_the_reference(6, 15.0);
 }
@@ -314,7 +314,7 @@ fn a_drill_string_agrees_with_a_tight_reference_integration() {
 /// still the collocation solution, as close to the reference as without that iteration.
 #[test]
 fn a_longer_drill_string_agrees_with_a_tight_reference_integration() {
-    // Measured at 1e-6: x 4.3, v 4.4, forces 1.4 times the tolerance; at 1e-8: 3.2, 4.4 and 2.3
+    // Measured at 1e-6: x 3.3, v 3.3, forces 1.0 times the tolerance; at 1e-8: 6.4, 6.8 and 3.6
     // (the reference's own error about 0.2 of it). This run's step sequence through the
     // stick-slip matters: over 6 tolerances from 0.6 to 2 times 1e-6, the largest of the three
     // is 1.8 to 9.5 times the tolerance, from 0.6 to 2 times 1e-8, 5.8 to 16, alike with and

@@ -121,11 +121,13 @@ pub struct Links {
 }
 
 /// The right-hand side of the string: everything the integrator needs, nothing it changes.
+/// The sections, links and harmonic support are fixed once built ([`StringModel::new`]: the
+/// error scale's constants are taken from them there); the inputs change.
 #[derive(Clone, Debug)]
 pub struct StringModel<L> {
-    pub sections: Vec<Section<L>>,
-    pub links: Links,
-    pub harmonic: Option<Harmonic>,
+    pub(crate) sections: Vec<Section<L>>,
+    pub(crate) links: Links,
+    pub(crate) harmonic: Option<Harmonic>,
     pub inputs: StringInputs,
     /// Per section where the load is an input: the law at a load it held, with that load, so
     /// that a held load input does not rebuild its law at every evaluation

@@ -4,7 +4,8 @@
 //! iterated on their own rows, at the cost of a block rather than of the chain, then their
 //! neighbours outwards (Gauss–Seidel). Where that settles them (each converged alone, below the
 //! Newton tolerance, the correction died out on either side before the budget, and at the end
-//! each block of the set, its neighbours now moved, needed no correction), every block has
+//! each block of the set and each neighbour corrected, its neighbours now moved, needed no
+//! correction), every block has
 //! passed its own convergence test, each as strict as the whole system's, and the iteration
 //! has converged; otherwise one more
 //! iteration of the whole system follows, whose own test decides as before. Either way the
@@ -144,7 +145,7 @@ impl BandWork {
     /// alone are left as they were. Whether the sweep settled them: every block converged
     /// alone, the walk from it ended either way on a neighbour that needed no correction, at an
     /// end of the chain or at another block of the set (not on the budget), and then every
-    /// block of the set needed no correction.
+    /// block of the set and every neighbour a walk corrected needed no correction.
     fn local_sweep<S: BandSystem>(
         &mut self,
         sys: &S,
@@ -162,6 +163,8 @@ impl BandWork {
         let blocks = std::mem::take(&mut self.local);
         let n = self.scal.len() / sys.block();
         let mut budget = SPREAD * blocks.len();
+        // The neighbours a walk corrected: each converged against the next one's old values.
+        let mut moved = Vec::new();
         for &k in &blocks {
             if self.local_newton(sys, step, k, goal).is_none() {
                 settled = false;
@@ -178,7 +181,10 @@ impl BandWork {
                     }
                     budget -= 1;
                     match self.local_newton(sys, step, j as usize, goal) {
-                        Some(first) if faccon * first > goal.0 => j += dir,
+                        Some(first) if faccon * first > goal.0 => {
+                            moved.push(j as usize);
+                            j += dir;
+                        }
                         Some(_) => break,
                         None => {
                             settled = false;
@@ -188,10 +194,11 @@ impl BandWork {
                 }
             }
         }
-        // A block of the set was iterated against its neighbours' values before the walks
-        // from the others moved them: settled where it now needs no correction.
+        // A block of the set, or a neighbour a walk corrected, was iterated against its
+        // neighbours' values before the walks moved them: settled where it now needs no
+        // correction.
         if settled {
-            settled = blocks.iter().all(|&k| {
+            settled = blocks.iter().chain(&moved).all(|&k| {
                 self.local_newton(sys, step, k, goal)
                     .is_some_and(|first| faccon * first <= goal.0)
             });

@@ -300,9 +300,11 @@ impl BandRadau {
             self.h = self.initial_step(work, t_end - self.t);
         }
         let mut reject = false;
-        // Whether the Jacobian is at this step's start or kept from a step before, and the
-        // step the Newton matrices were factored for (NaN: not for this Jacobian).
+        // Whether there is a Jacobian (evaluated at this step's start, `jac_at_start`, or kept
+        // from a step before), and the step the Newton matrices were factored for (NaN: not
+        // for this Jacobian). An attempt that fails on a kept Jacobian is retaken on a new one.
         let mut jac_fresh = false;
+        let mut jac_at_start = false;
         let mut factored_h = f64::NAN;
         while self.t < t_end {
             if self.stats.steps + self.stats.rejected >= self.step_limit {
@@ -336,6 +338,7 @@ impl BandRadau {
                 sys.jacobian(self.t, &self.y, &mut work.jac);
                 self.stats.jacobians += 1;
                 jac_fresh = true;
+                jac_at_start = true;
                 factored_h = f64::NAN;
             }
             if h != factored_h {
@@ -349,6 +352,7 @@ impl BandRadau {
                     self.stats.rejected += 1;
                     self.h = h * shrink;
                     reject = true;
+                    jac_fresh &= jac_at_start;
                     continue;
                 }
             };
@@ -359,6 +363,7 @@ impl BandRadau {
                 self.stats.rejected += 1;
                 self.h = if self.first { 0.1 * h } else { h / quot };
                 reject = true;
+                jac_fresh &= jac_at_start;
                 continue;
             }
             // Accepted.
@@ -412,7 +417,9 @@ impl BandRadau {
             }
             reject = false;
             jac_fresh = theta <= KEEP_JACOBIAN;
-            if jac_fresh && h_new >= h && h_new <= KEEP_STEP * h {
+            jac_at_start = false;
+            // (Not after the call's last step: the next call starts on a new Jacobian.)
+            if jac_fresh && t_new < t_end && h_new >= h && h_new <= KEEP_STEP * h {
                 h_new = h;
             }
             self.h = h_new;
