@@ -10,8 +10,12 @@
 //! sections' own steps (multirate), and the weight on bit.
 
 use cpu_time::ThreadTime;
-use vibrofric::model::string::{build_string, StringConfig, StringInput, StringParams};
-use vibrofric::table::{Law, Params};
+#[path = "../tests/support/configs.rs"]
+mod configs;
+
+use configs::drill_pipe;
+use vibrofric::model::string::{build_string, StringConfig, StringInput};
+use vibrofric::table::Law;
 
 fn main() {
     let seconds: f64 = std::env::args()
@@ -35,22 +39,7 @@ fn main() {
         "N", "CPU s / s", "µs / sec·step", "steps / s", "rejected", "sec. steps / s", "WOB (N)"
     );
     for &n in &sizes {
-        let mut shared = Params {
-            m: 267.0,
-            f_n: 2280.0,
-            mu: 0.3,
-            k_t: 1e8,
-            f_s: 1.3 * 0.3 * 2280.0,
-            ..Params::default()
-        };
-        shared.f_n_ref = shared.f_n;
-        shared.mu_ref = shared.mu;
-        shared.max_steps = 1e9;
-        let mut p = StringParams::uniform(n, shared, 7.1e7, 2e3);
-        p.links.k_top = 1e6;
-        p.links.c_top = 1e4;
-        p.links.k_bottom = 1e7;
-        p.links.c_bottom = 1e4;
+        let p = drill_pipe(n);
         let config = StringConfig {
             law: Law::LuGre,
             harmonic: false,

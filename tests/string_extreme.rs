@@ -6,30 +6,11 @@
 //! equals the step means of the external forces (`F_d`, `F_top`, `F_bottom`, `F_Fx`) times
 //! the step, whatever the law and the stiffness.
 
-use vibrofric::model::string::{build_string, StringConfig, StringInput, StringParams};
-use vibrofric::table::{Law, Params};
+mod support;
 
-/// Sections of 5-inch drill pipe (267 kg, EA/L = 7.1e7 N/m), 2.28 kN on the wall at mu = 0.3,
-/// the top held by a spring–dashpot fed at 5 cm/s, the bit a spring–dashpot on the rock.
-fn pipe(n: usize) -> StringParams {
-    let mut shared = Params {
-        m: 267.0,
-        f_n: 2280.0,
-        mu: 0.3,
-        k_t: 1e8,
-        f_s: 1.3 * 0.3 * 2280.0,
-        ..Params::default()
-    };
-    shared.f_n_ref = shared.f_n;
-    shared.mu_ref = shared.mu;
-    shared.max_steps = 1e9;
-    let mut p = StringParams::uniform(n, shared, 7.1e7, 2e3);
-    p.links.k_top = 1e6;
-    p.links.c_top = 1e4;
-    p.links.k_bottom = 1e7;
-    p.links.c_bottom = 1e4;
-    p
-}
+use support::configs::drill_pipe as pipe;
+use vibrofric::model::string::{build_string, StringConfig, StringInput, StringParams};
+use vibrofric::table::Law;
 
 const N: usize = 8;
 
@@ -43,9 +24,8 @@ struct Drive {
 
 /// Runs `steps` communication steps of `h` and returns the worst momentum imbalance as a
 /// fraction of `Σ|external forces|·h` (at least `n·F_C·h`).
-fn run(law: Law, mut p: StringParams, drive: Drive, tol: f64, h: f64, steps: usize) -> f64 {
+fn run(law: Law, p: StringParams, drive: Drive, tol: f64, h: f64, steps: usize) -> f64 {
     let n = p.sections();
-    p.shared.max_steps = 1e9;
     let config = StringConfig {
         law,
         harmonic: false,
