@@ -4,9 +4,10 @@
 //! spring–dashpot on the rock, an oscillation tool of 20 kN at 15 Hz at 3/4 of the length, in
 //! communication steps of 1 ms at tolerance 1e-6, from rest.
 //!
-//! `cargo run --release --example string_bench [-- SECONDS [N,N,...] [TOL] [normal-input]]`
-//! (the last: the normal forces as held inputs, as in the `DrillString` scene) prints,
-//! per N: CPU time per simulated second, per section and step, the string's steps, the
+//! `cargo run --release --example string_bench [-- SECONDS [N,N,...] [TOL] [OPTION...]]`
+//! with the options `normal-input` (the normal forces as held inputs, as in the `DrillString`
+//! scene), `k_t=VALUE` (the contact stiffness, N/m, instead of 1e8) and `law=dahl|dupont|lugre`
+//! (instead of LuGre) prints, per N: CPU time per simulated second, per section and step, the string's steps, the
 //! sections' own steps (multirate), and the weight on bit.
 
 use cpu_time::ThreadTime;
@@ -31,19 +32,37 @@ fn main() {
         .nth(3)
         .and_then(|a| a.parse().ok())
         .unwrap_or(1e-6);
+    let options: Vec<String> = std::env::args().skip(4).collect();
+    let option = |key: &str| {
+        options
+            .iter()
+            .find_map(|a| a.strip_prefix(key)?.strip_prefix('=').map(str::to_owned))
+    };
+    let normal_input = options.iter().any(|a| a == "normal-input");
+    let k_t: Option<f64> = option("k_t").map(|v| v.parse().expect("k_t=VALUE"));
+    let law = match option("law").as_deref() {
+        None | Some("lugre") => Law::LuGre,
+        Some("dahl") => Law::Dahl,
+        Some("dupont") => Law::Dupont,
+        Some(other) => panic!("law={other}: not dahl, dupont or lugre"),
+    };
     println!(
-        "string of LuGre sections, tool 20 kN at 15 Hz, {seconds} s in steps of {h} s, tol {tol:e}"
+        "string of {law:?} sections (k_t {:e} N/m), tool 20 kN at 15 Hz, {seconds} s in steps of {h} s, tol {tol:e}",
+        k_t.unwrap_or(drill_pipe(1).shared.k_t)
     );
     println!(
         "{:>6} {:>12} {:>14} {:>12} {:>10} {:>16} {:>12}",
         "N", "CPU s / s", "µs / sec·step", "steps / s", "rejected", "sec. steps / s", "WOB (N)"
     );
     for &n in &sizes {
-        let p = drill_pipe(n);
+        let mut p = drill_pipe(n);
+        if let Some(k_t) = k_t {
+            p.shared.k_t = k_t;
+        }
         let config = StringConfig {
-            law: Law::LuGre,
+            law,
             harmonic: false,
-            normal_input: std::env::args().nth(4).is_some_and(|a| a == "normal-input"),
+            normal_input,
         };
         let mut sim = build_string(config, p, 0.0, tol).unwrap();
         sim.set_input(StringInput::VTop, 0.05).unwrap();
