@@ -6,9 +6,10 @@
 //!
 //! `cargo run --release --example string_bench [-- SECONDS [N,N,...] [TOL] [OPTION...]]`
 //! with the options `normal-input` (the normal forces as held inputs, as in the `DrillString`
-//! scene), `k_t=VALUE` (the contact stiffness, N/m, instead of 1e8) and `law=dahl|dupont|lugre`
-//! (instead of LuGre) prints, per N: CPU time per simulated second, per section and step, the string's steps, the
-//! sections' own steps (multirate), and the weight on bit.
+//! scene), `k_t=VALUE` (the contact stiffness, N/m, instead of the pipe's) and
+//! `law=dahl|dupont|lugre` (instead of LuGre) prints, per N: CPU time per simulated second, per
+//! section and step, the string's steps, the sections' own steps (multirate), and the weight on
+//! bit. An option it does not know stops it with its name.
 
 use cpu_time::ThreadTime;
 #[path = "../tests/support/configs.rs"]
@@ -38,6 +39,12 @@ fn main() {
             .iter()
             .find_map(|a| a.strip_prefix(key)?.strip_prefix('=').map(str::to_owned))
     };
+    if let Some(bad) = options
+        .iter()
+        .find(|a| *a != "normal-input" && !a.starts_with("k_t=") && !a.starts_with("law="))
+    {
+        panic!("option {bad}: not normal-input, k_t=VALUE or law=dahl|dupont|lugre");
+    }
     let normal_input = options.iter().any(|a| a == "normal-input");
     let k_t: Option<f64> = option("k_t").map(|v| v.parse().expect("k_t=VALUE"));
     let law = match option("law").as_deref() {
