@@ -313,6 +313,46 @@ impl<L: FrictionLaw> StringModel<L> {
         self.link_between(i, &y[a..b], &y[b..])
     }
 
+    /// The stiffness and damping that hold section `i` to its neighbours and end elements.
+    fn holding(&self, i: usize) -> (f64, f64) {
+        let (l, n) = (&self.links, self.n());
+        let (mut k_sum, mut c_sum) = (0.0, 0.0);
+        if i > 0 {
+            k_sum += l.k_s[i - 1];
+            c_sum += l.c_s[i - 1];
+        }
+        if i + 1 < n {
+            k_sum += l.k_s[i];
+            c_sum += l.c_s[i];
+        }
+        if i == 0 {
+            k_sum += l.k_top;
+            c_sum += l.c_top;
+        }
+        if i + 1 == n {
+            k_sum += l.k_bottom;
+            c_sum += l.c_bottom;
+        }
+        (k_sum, c_sum)
+    }
+
+    /// `∂(dx/dt, dv/dt, ds/dt)/∂(x, v, s)` of section `i` at `t` with velocity `v` and
+    /// deformation `s`, its neighbours held: the diagonal block of the string's Jacobian.
+    fn own_block(&self, i: usize, t: f64, v: f64, s: f64) -> [[f64; PER_SECTION]; PER_SECTION] {
+        let (_, _, _, lj) = self.partials(i, t, v, s);
+        let inv_m = self.sections[i].inv_m;
+        let (k_sum, c_sum) = self.holding(i);
+        [
+            [0.0, 1.0, 0.0],
+            [
+                -k_sum * inv_m,
+                -(c_sum + lj.force_v[0][0]) * inv_m,
+                -lj.force_s[0][0] * inv_m,
+            ],
+            [0.0, lj.rate_v[0][0], lj.rate_s[0][0]],
+        ]
+    }
+
     /// The force in link `i` from the states `[x, v, ...]` of the sections it joins.
     #[inline(always)]
     fn link_between(&self, i: usize, a: &[f64], b: &[f64]) -> f64 {
@@ -427,39 +467,33 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
         let l = &self.links;
         for i in 0..n {
             let k = PER_SECTION * i;
-            let (_, _, _, lj) = self.partials(i, t, y[k + 1], y[k + 2]);
             let inv_m = self.sections[i].inv_m;
-            // Stiffness and damping that hold section i to its neighbours and ends.
-            let (mut k_sum, mut c_sum) = (0.0, 0.0);
             if i > 0 {
-                let (ks, cs) = (l.k_s[i - 1], l.c_s[i - 1]);
-                jac.set(k + 1, k - PER_SECTION, ks * inv_m);
-                jac.set(k + 1, k - PER_SECTION + 1, cs * inv_m);
-                k_sum += ks;
-                c_sum += cs;
+                jac.set(k + 1, k - PER_SECTION, l.k_s[i - 1] * inv_m);
+                jac.set(k + 1, k - PER_SECTION + 1, l.c_s[i - 1] * inv_m);
             }
             if i + 1 < n {
-                let (ks, cs) = (l.k_s[i], l.c_s[i]);
-                jac.set(k + 1, k + PER_SECTION, ks * inv_m);
-                jac.set(k + 1, k + PER_SECTION + 1, cs * inv_m);
-                k_sum += ks;
-                c_sum += cs;
+                jac.set(k + 1, k + PER_SECTION, l.k_s[i] * inv_m);
+                jac.set(k + 1, k + PER_SECTION + 1, l.c_s[i] * inv_m);
             }
-            if i == 0 {
-                k_sum += l.k_top;
-                c_sum += l.c_top;
+            let own = self.own_block(i, t, y[k + 1], y[k + 2]);
+            for (r, row) in own.iter().enumerate() {
+                for (c, &v) in row.iter().enumerate() {
+                    jac.set(k + r, k + c, v);
+                }
             }
-            if i + 1 == n {
-                k_sum += l.k_bottom;
-                c_sum += l.c_bottom;
-            }
-            jac.set(k, k + 1, 1.0);
-            jac.set(k + 1, k, -k_sum * inv_m);
-            jac.set(k + 1, k + 1, -(c_sum + lj.force_v[0][0]) * inv_m);
-            jac.set(k + 1, k + 2, -lj.force_s[0][0] * inv_m);
-            jac.set(k + 2, k + 1, lj.rate_v[0][0]);
-            jac.set(k + 2, k + 2, lj.rate_s[0][0]);
         }
+    }
+
+    /// Section `k`'s own rows and columns of [`Self::jacobian`], through the same
+    /// [`StringModel::own_block`].
+    fn jacobian_block(&self, t: f64, y: &[f64], k: usize, out: &mut [f64]) -> bool {
+        let at = PER_SECTION * k;
+        let own = self.own_block(k, t, y[at + 1], y[at + 2]);
+        for (o, v) in out.iter_mut().zip(own.as_flattened()) {
+            *o = *v;
+        }
+        true
     }
 
     /// The velocity and the deformation to their natural scales plus their magnitudes; a
@@ -616,6 +650,79 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Each section's `jacobian_block` against central differences of its `rhs_block` (every
+    /// law, with and without the harmonic support and the load as input, sliding either way),
+    /// and equal to the diagonal block of the string's band Jacobian bit for bit.
+    fn blocks_are_the_derivatives<L: FrictionLaw>() {
+        for n in [1, 3, 7] {
+            for harmonic in [false, true] {
+                for normal_input in [false, true] {
+                    let m = model::<L>(n, harmonic, normal_input);
+                    let mut r = Numbers(5);
+                    let mut y = vec![0.0; PER_SECTION * n];
+                    let mut band = Band::zeros(y.len(), 4, 3);
+                    for trial in 0..10 {
+                        let t = 0.01 + 1e-4 * trial as f64;
+                        let mut scales = vec![[0.0; PER_SECTION]; n];
+                        for (i, yi) in y.chunks_mut(PER_SECTION).enumerate() {
+                            let s_ss = m.sections[i].params.f_c() / m.sections[i].params.k_t;
+                            // Away from a reversal, where the rates are smooth.
+                            let v = 5e-3 * r.next();
+                            yi[0] = 1e-5 * r.next();
+                            yi[1] = v + 2e-3 * v.signum();
+                            yi[2] = 0.8 * s_ss * r.next();
+                            scales[i] = [1e-5, 5e-3, s_ss];
+                        }
+                        band.clear();
+                        m.jacobian(t, &y, &mut band);
+                        for (k, scale) in scales.iter().enumerate() {
+                            let mut block = [0.0; PER_SECTION * PER_SECTION];
+                            assert!(m.jacobian_block(t, &y, k, &mut block));
+                            let at = PER_SECTION * k;
+                            for (e, j) in block.iter().enumerate() {
+                                let (row, col) = (e / PER_SECTION, e % PER_SECTION);
+                                let b = band.get(at + row, at + col);
+                                assert_eq!(j.to_bits(), b.to_bits(), "section {k} ({row}, {col})");
+                            }
+                            for col in 0..PER_SECTION {
+                                let d = 1e-6 * scale[col];
+                                let (mut up, mut down) = (y.clone(), y.clone());
+                                up[at + col] += d;
+                                down[at + col] -= d;
+                                let (mut fu, mut fd) = ([0.0; PER_SECTION], [0.0; PER_SECTION]);
+                                m.rhs_block(t, &up, k, &mut fu);
+                                m.rhs_block(t, &down, k, &mut fd);
+                                for row in 0..PER_SECTION {
+                                    let fdiff = (fu[row] - fd[row]) / (2.0 * d);
+                                    let j = block[row * PER_SECTION + col];
+                                    // Against the row's largest term, each column on its scale.
+                                    let size = (0..PER_SECTION)
+                                        .map(|c| {
+                                            (block[row * PER_SECTION + c] * scales[k][c]).abs()
+                                        })
+                                        .fold(0.0, f64::max);
+                                    assert!(
+                                        ((j - fdiff) * scales[k][col]).abs()
+                                            <= 1e-6 * size + 1e-300,
+                                        "n {n} harmonic {harmonic} load input {normal_input} \
+                                         section {k} ({row}, {col}): {j} against {fdiff}"
+                                    );
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_sections_block_of_the_jacobian_is_its_derivative() {
+        blocks_are_the_derivatives::<Dahl>();
+        blocks_are_the_derivatives::<Dupont>();
+        blocks_are_the_derivatives::<LuGre>();
     }
 
     #[test]
