@@ -122,13 +122,14 @@ const KEEP_JACOBIAN: f64 = 0.05;
 /// Where the iteration of the whole system is too slow, up to this many times
 /// [`BandSystem::max_local`] blocks are iterated alone before the step is given up.
 const SLOW_LOCAL: usize = 4;
-/// A block whose own error on the step exceeds this many times its tolerance (its own steps
-/// would be about 10 times shorter) is not integrated again alone: its neighbours moved along
-/// its trajectory of the step, that far off, and the step is rejected. On `tests/string.rs`'s
-/// 16 sections against its reference, over 6 tolerances from 0.6 to 2 times 1e-6 and 1e-8,
-/// the largest error of positions, velocities and forces is at most 2.2 and 3.4 times the
-/// tolerance (without this bound 1.8–9.5 and 5.8–16; with 3e4, 11.3 and 6.9), at 2.1 % (100
-/// sections) to 3.9 % (20) more instructions on the drill string of `string_bench`; without
+/// A block whose own error on the step, in what its neighbours feel of it (all of it, or a
+/// body's position and velocity in a chain), exceeds this many times its tolerance (its own
+/// steps would be about 10 times shorter) is not integrated again alone: its neighbours moved
+/// along its trajectory of the step, that far off, and the step is rejected. On
+/// `tests/string.rs`'s 16 sections against its reference, over 6 tolerances from 0.6 to 2
+/// times 1e-6 and 1e-8, the largest error of positions, velocities and forces is 0.65–3.7 and
+/// 0.8–2.4 times the tolerance (without this bound 1.8–9.5 and 5.8–16), at 1.7 % (100
+/// sections) to 4.6 % (20) more instructions on the drill string of `string_bench`; without
 /// it the sweep of [`SLOW_LOCAL`] lets long steps through where the sections at the fed top
 /// start (28.6, 30.0 and 33.7 times 1e-8).
 const REFINED_ERR_MAX: f64 = 1e4;
@@ -190,6 +191,9 @@ pub struct BandWork {
     pub(super) local: Vec<usize>,
     /// Each block's scaled update (RMS) in the iteration just taken and in the one before.
     pub(super) norms: [Vec<f64>; 2],
+    /// The Newton matrices of blocks iterated alone, factored for the current ones
+    /// (`local.rs`).
+    pub(super) block_lus: super::local::BlockLus,
 }
 
 impl BandWork {
@@ -214,6 +218,7 @@ impl BandWork {
             refine: Vec::new(),
             local: Vec::new(),
             norms: [Vec::new(), Vec::new()],
+            block_lus: Default::default(),
         }
     }
 
@@ -225,6 +230,7 @@ impl BandWork {
     fn factor<S: BandSystem>(&mut self, sys: &S, h: f64) {
         let n = self.f0.len();
         let (g, a) = (U1 / h, Complex::new(ALPH / h, BETA / h));
+        self.block_lus.invalidate();
         self.chained = sys.chain() && self.c1.factor(&self.jac, g) && self.c2.factor(&self.jac, a);
         if self.chained {
             return;
@@ -698,13 +704,21 @@ impl BandRadau {
         if b == 0 {
             return err;
         }
-        // The blocks whose own error fails: if few, the step's error is the others'.
+        // The blocks whose own error fails: if few, the step's error is the others'. What
+        // the neighbours feel of a block: all of it, or in a chain of bodies `[x, v, s]`
+        // their position and velocity.
+        let felt = if sys.chain() { b.min(2) } else { b };
         let mut latent = 0.0;
         for (k, (dw, scal)) in work.dw.chunks(b).zip(work.scal.chunks(b)).enumerate() {
             let sum: f64 = dw.iter().zip(scal).map(|(a, s)| (a / s) * (a / s)).sum();
             if sum > b as f64 {
+                let off: f64 = dw[..felt]
+                    .iter()
+                    .zip(&scal[..felt])
+                    .map(|(a, s)| (a / s) * (a / s))
+                    .sum();
                 if work.refine.len() == sys.max_refined()
-                    || sum > REFINED_ERR_MAX.powi(2) * b as f64
+                    || off > REFINED_ERR_MAX.powi(2) * felt as f64
                 {
                     work.refine.clear();
                     return err;
