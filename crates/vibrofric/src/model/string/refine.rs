@@ -360,7 +360,13 @@ pub fn reflux<L: FrictionLaw>(
     refined: &[(usize, Refined)],
 ) {
     let n = model.n();
-    let own = |i: usize| refined.iter().find(|r| r.0 == i).map(|r| &r.1);
+    // `refined` ascends: a section's own integration, if any, by a walk along it.
+    let own = |i: usize, from: &mut usize| {
+        while *from < refined.len() && refined[*from].0 < i {
+            *from += 1;
+        }
+        refined.get(*from).filter(|r| r.0 == i).map(|r| &r.1)
+    };
     // A section's position integral and displacement over the step: on the string's step, or
     // its own.
     let coarse = |i: usize| {
@@ -369,32 +375,50 @@ pub fn reflux<L: FrictionLaw>(
         (integral, stages[2][k] - y0[k])
     };
     let fine = |i: usize, r: &Refined| (r.position, r.y[0] - y0[PER_SECTION * i]);
-    let mut dp = vec![0.0; n];
-    for a in 0..n.saturating_sub(1) {
-        let b = a + 1;
-        let (ra, rb) = (own(a), own(b));
-        if ra.is_none() && rb.is_none() {
-            continue;
+    // The impulse each section did not get, for the sections beside a link that touches a
+    // section integrated again (ascending, at most two links each).
+    let mut dp: Vec<(usize, f64)> = Vec::with_capacity(3 * refined.len());
+    let mut add = |i: usize, p: f64| match dp.last_mut() {
+        Some(last) if last.0 == i => last.1 += p,
+        _ => dp.push((i, p)),
+    };
+    // The links touching a section integrated again, each once and in order: the one on its
+    // left unless that section was integrated again too (its right link), and the one on its
+    // right.
+    let (mut at_a, mut at_b) = (0, 0);
+    let mut last_link = None;
+    for &(i, _) in refined {
+        for a in [i.checked_sub(1), (i + 1 < n).then_some(i)]
+            .into_iter()
+            .flatten()
+        {
+            if last_link.is_some_and(|l| l >= a) {
+                continue;
+            }
+            last_link = Some(a);
+            let b = a + 1;
+            let (ra, rb) = (own(a, &mut at_a), own(b, &mut at_b));
+            let (k, c) = (model.links.k_s[a], model.links.c_s[a]);
+            let impulse =
+                |(xa, da): (f64, f64), (xb, db): (f64, f64)| k * (xb - xa) + c * (db - da);
+            let on_step = impulse(coarse(a), coarse(b));
+            // What each end felt: section a gets +J, section b −J.
+            let felt_a = ra.map_or(on_step, |r| impulse(fine(a, r), coarse(b)));
+            let felt_b = rb.map_or(on_step, |r| impulse(coarse(a), fine(b, r)));
+            let agreed = match (ra, rb) {
+                (Some(_), Some(_)) => 0.5 * (felt_a + felt_b),
+                (Some(_), None) => felt_a,
+                _ => felt_b,
+            };
+            add(a, agreed - felt_a);
+            add(b, -(agreed - felt_b));
         }
-        let (k, c) = (model.links.k_s[a], model.links.c_s[a]);
-        let impulse = |(xa, da): (f64, f64), (xb, db): (f64, f64)| k * (xb - xa) + c * (db - da);
-        let on_step = impulse(coarse(a), coarse(b));
-        // What each end felt: section a gets +J, section b −J.
-        let felt_a = ra.map_or(on_step, |r| impulse(fine(a, r), coarse(b)));
-        let felt_b = rb.map_or(on_step, |r| impulse(coarse(a), fine(b, r)));
-        let agreed = match (ra, rb) {
-            (Some(_), Some(_)) => 0.5 * (felt_a + felt_b),
-            (Some(_), None) => felt_a,
-            _ => felt_b,
-        };
-        dp[a] += agreed - felt_a;
-        dp[b] -= agreed - felt_b;
     }
     for (i, r) in refined {
         let k = PER_SECTION * i;
         stages[2][k..k + PER_SECTION].copy_from_slice(&r.y);
     }
-    for (i, &p) in dp.iter().enumerate() {
+    for &(i, p) in &dp {
         if p != 0.0 {
             let dv = p * model.sections[i].inv_m;
             let k = PER_SECTION * i;
