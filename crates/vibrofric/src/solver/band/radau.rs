@@ -23,9 +23,9 @@
 //!   tolerance on its own, and where it fails in a few blocks only, the step is accepted for
 //!   the others and those blocks are handed to the caller to integrate again alone (the
 //!   multirate strategy of Savcenco, Hundsdorfer and Verwer, BIT 47, 2007). A body with a fast
-//!   transient of its own then costs its own short steps, not the whole chain's; but not a
-//!   body whose own error is beyond [`REFINED_ERR_MAX`]: its neighbours moved along its
-//!   trajectory of the step.
+//!   transient of its own then costs its own short steps, not the whole chain's; but not two
+//!   bodies side by side, one of them off by more than [`REFINED_ERR_MAX`]: each would be
+//!   integrated again against the other's trajectory of the step.
 //!
 //! Kinks of the right-hand side (the relative velocity of a contact through zero) are not
 //! located here: the error control steps over them, or the caller's integration of a block
@@ -122,14 +122,14 @@ const KEEP_JACOBIAN: f64 = 0.05;
 /// Where the iteration of the whole system is too slow, up to this many times
 /// [`BandSystem::max_local`] blocks are iterated alone before the step is given up.
 const SLOW_LOCAL: usize = 4;
-/// A block whose own error on the step, in what its neighbours feel of it (all of it, or a
-/// body's position and velocity in a chain), exceeds this many times its tolerance (its own
-/// steps would be about 10 times shorter) is not integrated again alone: its neighbours moved
-/// along its trajectory of the step, that far off, and the step is rejected. On
+/// Two blocks side by side whose own errors failed are each integrated again against the
+/// other's trajectory of the step: where one of them is off, in what its neighbour feels of it
+/// (all of it, or a body's position and velocity in a chain), by more than this many times its
+/// tolerance (its own steps would be about 10 times shorter), the step is rejected. On
 /// `tests/string.rs`'s 16 sections against its reference, over 6 tolerances from 0.6 to 2
 /// times 1e-6 and 1e-8, the largest error of positions, velocities and forces is 0.65–3.7 and
-/// 0.8–2.4 times the tolerance (without this bound 1.8–9.5 and 5.8–16), at 1.7 % (100
-/// sections) to 4.6 % (20) more instructions on the drill string of `string_bench`; without
+/// 0.8–2.4 times the tolerance (without this bound 1.8–9.5 and 5.8–16; the same with it on
+/// every block integrated again, at 30 % more steps for Dahl's contacts of 1e12 N/m); without
 /// it the sweep of [`SLOW_LOCAL`] lets long steps through where the sections at the fed top
 /// start (28.6, 30.0 and 33.7 times 1e-8).
 const REFINED_ERR_MAX: f64 = 1e4;
@@ -708,6 +708,9 @@ impl BandRadau {
         // the neighbours feel of a block: all of it, or in a chain of bodies `[x, v, s]`
         // their position and velocity.
         let felt = if sys.chain() { b.min(2) } else { b };
+        // The last block to integrate again, and whether its error in what its neighbours feel
+        // is beyond [`REFINED_ERR_MAX`].
+        let mut last: Option<(usize, bool)> = None;
         let mut latent = 0.0;
         for (k, (dw, scal)) in work.dw.chunks(b).zip(work.scal.chunks(b)).enumerate() {
             let sum: f64 = dw.iter().zip(scal).map(|(a, s)| (a / s) * (a / s)).sum();
@@ -717,12 +720,15 @@ impl BandRadau {
                     .zip(&scal[..felt])
                     .map(|(a, s)| (a / s) * (a / s))
                     .sum();
-                if work.refine.len() == sys.max_refined()
-                    || off > REFINED_ERR_MAX.powi(2) * felt as f64
-                {
+                let far = off > REFINED_ERR_MAX.powi(2) * felt as f64;
+                // Two blocks side by side, each integrated again against the other's trajectory
+                // of the step, one of them that far off: the step is rejected.
+                let beside_far = last.is_some_and(|(j, far_j)| j + 1 == k && (far || far_j));
+                if work.refine.len() == sys.max_refined() || beside_far {
                     work.refine.clear();
                     return err;
                 }
+                last = Some((k, far));
                 work.refine.push(k);
             } else {
                 latent += sum;
