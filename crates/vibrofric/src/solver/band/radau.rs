@@ -125,13 +125,21 @@ const SLOW_LOCAL: usize = 4;
 /// Two blocks side by side whose own errors failed are each integrated again against the
 /// other's trajectory of the step: where one of them is off, in what its neighbour feels of it
 /// (all of it, or a body's position and velocity in a chain), by more than this many times its
-/// tolerance (its own steps would be about 10 times shorter), the step is rejected. On
-/// `tests/string.rs`'s 16 sections against its reference, over 6 tolerances from 0.6 to 2
-/// times 1e-6 and 1e-8, the largest error of positions, velocities and forces is 0.65–3.7 and
-/// 0.8–2.4 times the tolerance (without this bound 1.8–9.5 and 5.8–16; the same with it on
-/// every block integrated again, at 30 % more steps for Dahl's contacts of 1e12 N/m); without
-/// it the sweep of [`SLOW_LOCAL`] lets long steps through where the sections at the fed top
-/// start (28.6, 30.0 and 33.7 times 1e-8).
+/// tolerance (its own steps would be about 10 times shorter), the step is rejected. A choice
+/// on the work–precision curve, measured on `tests/string.rs`'s 16 sections against its
+/// reference (largest error of positions, velocities and forces over 6 tolerances from 0.6 to
+/// 2 times 1e-6, then 1e-8, in units of the tolerance) and on `string_bench`'s drill string
+/// (string steps over 0.3 s at 20 / 100 sections):
+///
+/// | bound | errors around 1e-6 | around 1e-8 | steps |
+/// |---|---|---|---|
+/// | 3e3 | 0.53–1.53 | 0.33–1.12 | 9970 / 9677 |
+/// | **1e4** | 0.65–3.73 | 0.82–2.38 | 8913 / 8287 |
+/// | 3e4 | 3.13–11.3 | 1.14–6.84 | 8530 / 7947 |
+/// | 1e5 | 3.89–11.3 | 3.88–25.4 | 8373 / 7917 |
+///
+/// (Before the sweep of [`SLOW_LOCAL`], without this bound: 1.8–9.5 and 5.8–16, 8477 / 7770
+/// steps.)
 const REFINED_ERR_MAX: f64 = 1e4;
 const KEEP_STEP: f64 = 1.2;
 
