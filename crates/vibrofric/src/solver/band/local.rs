@@ -41,7 +41,6 @@ pub const MAX_BLOCK: usize = 4;
 /// Iterations of a block alone at most (a drill string of 1000 sections took up to 12, most
 /// blocks 1 or 2); beyond, the iteration of the whole system takes over.
 const LOCAL_NIT: u32 = 12;
-/// A block alone contracting slower than this is left to the iteration of the whole system.
 /// What a block alone is converged to, in units of the Newton tolerance: below it, so that the
 /// whole system's iteration after the sweep finds it converged.
 const LOCAL_GOAL: f64 = 0.3;

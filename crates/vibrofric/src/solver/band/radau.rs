@@ -119,6 +119,7 @@ const FAC_MAX_SHRINK: f64 = 0.2;
 /// by half, the errors against `tests/string.rs`'s reference as before (0.2: the same
 /// instructions to 0.2 %).
 const KEEP_JACOBIAN: f64 = 0.05;
+const KEEP_STEP: f64 = 1.2;
 /// Where the iteration of the whole system is too slow, up to this many times
 /// [`BandSystem::max_local`] blocks are iterated alone before the step is given up.
 const SLOW_LOCAL: usize = 4;
@@ -141,7 +142,6 @@ const SLOW_LOCAL: usize = 4;
 /// (Before the sweep of [`SLOW_LOCAL`], without this bound: 1.8–9.5 and 5.8–16, 8477 / 7770
 /// steps.)
 const REFINED_ERR_MAX: f64 = 1e4;
-const KEEP_STEP: f64 = 1.2;
 
 /// The integrator's state: all that a continuation needs (scratch space is in [`BandWork`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -604,11 +604,11 @@ impl BandRadau {
             if !dyno.is_finite() {
                 return Err(0.5);
             }
-            // After a sweep of blocks alone the update measures what the sweep left, not the
-            // contraction of this iteration: the contraction measured before it stands.
             // The factor to shrink the step by where the iteration diverges or would not
             // converge in time.
             let mut slow = None;
+            // After a sweep of blocks alone the update measures what the sweep left, not the
+            // contraction of this iteration: the contraction measured before it stands.
             if newt > 1 && !after_sweep {
                 let thq = dyno / dyno_old;
                 theta = if newt == 2 {
@@ -633,8 +633,8 @@ impl BandRadau {
             }
             if let Some(shrink) = slow {
                 // Often one block holds the whole system back (a stiff contact slowing to a
-                // reversal): before the step is given up, the blocks whose own update is
-                // above the Newton tolerance, if few, are iterated alone; where that settles
+                // reversal): before the step is given up, the blocks not converged by their
+                // own contraction, if few, are iterated alone (`local.rs`); where that settles
                 // them, the iteration has converged.
                 let step = (self.t, h, self.y.as_slice());
                 let most = SLOW_LOCAL * sys.max_local();
