@@ -6,10 +6,11 @@
 //!
 //! `cargo run --release --example string_bench [-- SECONDS [N,N,...] [TOL] [OPTION...]]`
 //! with the options `normal-input` (the normal forces as held inputs, as in the `DrillString`
-//! scene), `k_t=VALUE` (the contact stiffness, N/m, instead of the pipe's) and
-//! `law=dahl|dupont|lugre` (instead of LuGre) prints, per N: CPU time per simulated second, per
-//! section and step, the string's steps, the sections' own steps (multirate), and the weight on
-//! bit. An option it does not know stops it with its name.
+//! scene), `k_t=VALUE` (the contact stiffness, N/m, instead of the pipe's),
+//! `law=dahl|dupont|lugre` (instead of LuGre) and `support=HZ` (the wall vibrating along the
+//! string with an amplitude of 1 µm at that frequency) prints, per N: CPU time per simulated
+//! second, per section and step, the string's steps, the sections' own steps (multirate), and
+//! the weight on bit. An option it does not know stops it with its name.
 
 use cpu_time::ThreadTime;
 #[path = "../tests/support/configs.rs"]
@@ -39,14 +40,17 @@ fn main() {
             .iter()
             .find_map(|a| a.strip_prefix(key)?.strip_prefix('=').map(str::to_owned))
     };
-    if let Some(bad) = options
-        .iter()
-        .find(|a| *a != "normal-input" && !a.starts_with("k_t=") && !a.starts_with("law="))
-    {
-        panic!("option {bad}: not normal-input, k_t=VALUE or law=dahl|dupont|lugre");
+    if let Some(bad) = options.iter().find(|a| {
+        *a != "normal-input"
+            && !["k_t=", "law=", "support="]
+                .iter()
+                .any(|p| a.starts_with(p))
+    }) {
+        panic!("option {bad}: not normal-input, k_t=VALUE, law=dahl|dupont|lugre or support=HZ");
     }
     let normal_input = options.iter().any(|a| a == "normal-input");
     let k_t: Option<f64> = option("k_t").map(|v| v.parse().expect("k_t=VALUE"));
+    let support: Option<f64> = option("support").map(|v| v.parse().expect("support=HZ"));
     let law = match option("law").as_deref() {
         None | Some("lugre") => Law::LuGre,
         Some("dahl") => Law::Dahl,
@@ -54,8 +58,9 @@ fn main() {
         Some(other) => panic!("law={other}: not dahl, dupont or lugre"),
     };
     println!(
-        "string of {law:?} sections (k_t {:e} N/m), tool 20 kN at 15 Hz, {seconds} s in steps of {h} s, tol {tol:e}",
-        k_t.unwrap_or(drill_pipe(1).shared.k_t)
+        "string of {law:?} sections (k_t {:e} N/m{}), tool 20 kN at 15 Hz, {seconds} s in steps of {h} s, tol {tol:e}",
+        k_t.unwrap_or(drill_pipe(1).shared.k_t),
+        support.map_or(String::new(), |f| format!(", the wall at 1 µm and {f} Hz"))
     );
     println!(
         "{:>6} {:>12} {:>14} {:>12} {:>10} {:>16} {:>12}",
@@ -66,9 +71,13 @@ fn main() {
         if let Some(k_t) = k_t {
             p.shared.k_t = k_t;
         }
+        if let Some(f) = support {
+            p.shared.u0 = 1e-6;
+            p.shared.f = f;
+        }
         let config = StringConfig {
             law,
-            harmonic: false,
+            harmonic: support.is_some(),
             normal_input,
         };
         let mut sim = build_string(config, p, 0.0, tol).unwrap();
