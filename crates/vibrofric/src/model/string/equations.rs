@@ -313,8 +313,9 @@ impl<L: FrictionLaw> StringModel<L> {
         self.link_between(i, &y[a..b], &y[b..])
     }
 
-    /// The stiffness and damping that hold section `i` to its neighbours and end elements.
-    fn holding(&self, i: usize) -> (f64, f64) {
+    /// The stiffness and damping that hold section `i` to its neighbours and end elements
+    /// (its Jacobian's, in the string and where it is integrated again alone).
+    pub(super) fn holding(&self, i: usize) -> (f64, f64) {
         let (l, n) = (&self.links, self.n());
         let (mut k_sum, mut c_sum) = (0.0, 0.0);
         if i > 0 {

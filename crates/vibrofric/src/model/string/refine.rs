@@ -274,16 +274,7 @@ pub fn refine<L: FrictionLaw>(
     });
     let right = (i + 1 < n).then(|| (l.k_s[i], l.c_s[i], Trajectory::of(i + 1, y0, stages)));
     let (top, bottom) = (i == 0, i + 1 == n);
-    let mut k_sum = left.map_or(0.0, |h| h.0) + right.map_or(0.0, |h| h.0);
-    let mut c_sum = left.map_or(0.0, |h| h.1) + right.map_or(0.0, |h| h.1);
-    if top {
-        k_sum += l.k_top;
-        c_sum += l.c_top;
-    }
-    if bottom {
-        k_sum += l.k_bottom;
-        c_sum += l.c_bottom;
-    }
+    let (k_sum, c_sum) = model.holding(i);
     let sec = &model.sections[i];
     let k = PER_SECTION * i;
     let s_nom = sec.law.s_scale();

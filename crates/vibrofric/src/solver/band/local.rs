@@ -200,7 +200,7 @@ fn solve_dense(
 
 impl BandWork {
     /// After an iteration of the whole system (its update still in `dw`, `dwc`) that has not
-    /// converged, where at most `most` blocks fail their own test, iterates
+    /// converged, where at most [`BandSystem::max_local`] blocks fail their own test, iterates
     /// them alone ([`Self::local_sweep`]): `None` where it did not, else whether that settled
     /// them.
     pub(super) fn sweep_unconverged<S: BandSystem>(
@@ -208,9 +208,8 @@ impl BandWork {
         sys: &S,
         step: (f64, f64, &[f64]),
         (fnewt, faccon): (f64, f64),
-        most: usize,
     ) -> Option<bool> {
-        if !self.few_unconverged(sys.block(), most, fnewt, faccon) {
+        if !self.few_unconverged(sys.block(), sys.max_local(), fnewt, faccon) {
             return None;
         }
         Some(self.local_sweep(sys, step, (fnewt, faccon), false))
@@ -479,8 +478,8 @@ impl BandWork {
     /// `z_s = h·Σ_j A_sj·f(t + C_j·h, y + z_j)` (its neighbours' stages held), with the
     /// block's Jacobian at each stage ([`BandSystem::jacobian_block`]), from its current
     /// increments, until its update times its contraction is below `goal`: whether it
-    /// converged (else the block is left as it was). The same equations as the whole
-    /// system's iteration, so the same solution.
+    /// converged (else [`Self::local_newton`], its only caller, puts the block back as it
+    /// was). The same equations as the whole system's iteration, so the same solution.
     fn block_newton<S: BandSystem>(
         &mut self,
         sys: &S,
@@ -490,10 +489,6 @@ impl BandWork {
     ) -> bool {
         let b = sys.block();
         let at = k * b;
-        let mut saved = [[0.0; MAX_BLOCK]; 3];
-        for (s, z) in saved.iter_mut().zip(&self.z) {
-            s[..b].copy_from_slice(&z[at..at + b]);
-        }
         let mut old = 0.0;
         for it in 0..LOCAL_NIT {
             let mut f = [[0.0; MAX_BLOCK]; 3];
@@ -552,12 +547,6 @@ impl BandWork {
                 }
             }
             old = norm.max(f64::EPSILON);
-        }
-        for (s, (z, st)) in saved.iter().zip(self.z.iter_mut().zip(&mut self.stages)) {
-            z[at..at + b].copy_from_slice(&s[..b]);
-            for i in at..at + b {
-                st[i] = y[i] + z[i];
-            }
         }
         false
     }

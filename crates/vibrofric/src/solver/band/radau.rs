@@ -655,10 +655,7 @@ impl BandRadau {
             let step = (self.t, h, self.y.as_slice());
             let sweep =
                 (newt > 1 && newt < NIT && !swept && self.faccon * dyno * theta > self.fnewt)
-                    .then(|| {
-                        let most = sys.max_local();
-                        work.sweep_unconverged(sys, step, (self.fnewt, self.faccon), most)
-                    })
+                    .then(|| work.sweep_unconverged(sys, step, (self.fnewt, self.faccon)))
                     .flatten();
             after_sweep = sweep.is_some();
             swept |= after_sweep;
