@@ -7,8 +7,10 @@
 //! `cargo run --release --example string_bench [-- SECONDS [N,N,...] [TOL] [OPTION...]]`
 //! with the options `normal-input` (the normal forces as held inputs, as in the `DrillString`
 //! scene), `k_t=VALUE` (the contact stiffness, N/m, instead of the pipe's),
-//! `law=dahl|dupont|lugre` (instead of LuGre) and `support=HZ` (the wall vibrating along the
-//! string with an amplitude of 1 µm at that frequency) prints, per N: CPU time per simulated
+//! `law=dahl|dupont|lugre` (instead of LuGre), `support=HZ` (the wall vibrating along the
+//! string with an amplitude of 1 µm at that frequency) and `tool-rate` (the tool's force with
+//! its slope at each step's start as the input derivative, as `drill_string/coupling_bench.py`
+//! gives it, instead of held) prints, per N: CPU time per simulated
 //! second, per section and step, the string's steps, the sections' own steps (multirate), and
 //! the weight on bit. An option it does not know stops it with its name.
 
@@ -42,13 +44,17 @@ fn main() {
     };
     if let Some(bad) = options.iter().find(|a| {
         *a != "normal-input"
+            && *a != "tool-rate"
             && !["k_t=", "law=", "support="]
                 .iter()
                 .any(|p| a.starts_with(p))
     }) {
-        panic!("option {bad}: not normal-input, k_t=VALUE, law=dahl|dupont|lugre or support=HZ");
+        panic!(
+            "option {bad}: not normal-input, tool-rate, k_t=VALUE, law=dahl|dupont|lugre or support=HZ"
+        );
     }
     let normal_input = options.iter().any(|a| a == "normal-input");
+    let tool_rate = options.iter().any(|a| a == "tool-rate");
     let k_t: Option<f64> = option("k_t").map(|v| v.parse().expect("k_t=VALUE"));
     let support: Option<f64> = option("support").map(|v| v.parse().expect("support=HZ"));
     let law = match option("law").as_deref() {
@@ -88,8 +94,13 @@ fn main() {
         let mut wob = 0.0;
         for c in 0..steps {
             let t = c as f64 * h;
-            let f = 2e4 * (std::f64::consts::TAU * 15.0 * t).sin();
-            sim.set_input(StringInput::Fd(tool), f).unwrap();
+            let w = std::f64::consts::TAU * 15.0;
+            sim.set_input(StringInput::Fd(tool), 2e4 * (w * t).sin())
+                .unwrap();
+            if tool_rate {
+                sim.set_input_derivative(StringInput::Fd(tool), 2e4 * w * (w * t).cos())
+                    .unwrap();
+            }
             sim.step_to((c + 1) as f64 * h).unwrap();
             wob = sim.outputs().f_bottom_step;
         }
