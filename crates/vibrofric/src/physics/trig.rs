@@ -69,7 +69,17 @@ const TO_INT: f64 = 6_755_399_441_055_744.0;
 
 #[inline(always)]
 fn round(x: f64) -> f64 {
-    (x + TO_INT) - TO_INT
+    round_bits(x).0
+}
+
+/// [`round`]`(x)` and the bits of `x + 1.5·2^52`, whose low bits are that integer's, two's
+/// complement (the unit in the last place of `1.5·2^52` is 1): where the integer itself is
+/// needed, this is exact and takes no float-to-integer conversion, which Rust saturates with a
+/// few compares and moves more.
+#[inline(always)]
+fn round_bits(x: f64) -> (f64, u64) {
+    let shifted = x + TO_INT;
+    (shifted - TO_INT, shifted.to_bits())
 }
 
 /// Fractional part `x − floor(x)` in [0, 1) for |x| < 2^51 (an exact operation).
@@ -94,7 +104,7 @@ fn exponent(x: f64) -> i32 {
 /// only when cancellation has eaten the first one's precision (x near a multiple of π/2).
 #[inline(always)]
 fn reduce(x: f64) -> (u32, f64, f64) {
-    let n = round(x * INV_PIO2);
+    let (n, n_bits) = round_bits(x * INV_PIO2);
     let mut r = x - n * PIO2_1;
     let mut w = n * PIO2_1T;
     let mut hi = r - w;
@@ -114,7 +124,7 @@ fn reduce(x: f64) -> (u32, f64, f64) {
         }
     }
     let lo = (r - hi) - w;
-    ((n as i64 & 3) as u32, hi, lo)
+    ((n_bits & 3) as u32, hi, lo)
 }
 
 /// Below this magnitude `sin(x) = x` and `cos(x) = 1` to the last bit.
@@ -205,9 +215,7 @@ fn exp_kernel(x: f64) -> (f64, f64) {
     // ln 2 in two parts (fdlibm's): k·LN2_HI is exact for |k| < 2^11.
     const LN2_HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000);
     const LN2_LO: f64 = f64::from_bits(0x3dea_39ef_3579_3c76);
-    // Adding and subtracting 1.5·2^52 rounds to the nearest integer.
-    const ROUND: f64 = 6_755_399_441_055_744.0;
-    let k = (x * std::f64::consts::LOG2_E + ROUND) - ROUND;
+    let (k, k_bits) = round_bits(x * std::f64::consts::LOG2_E);
     let r = (x - k * LN2_HI) - k * LN2_LO;
     let (r2, c) = (r * r, |n: f64| 1.0 / n);
     let r4 = r2 * r2;
@@ -217,13 +225,36 @@ fn exp_kernel(x: f64) -> (f64, f64) {
         + r2 * (c(3_628_800.0) + c(39_916_800.0) * r)
         + r4 * (c(479_001_600.0) + c(6_227_020_800.0) * r);
     let p = r + r2 * a + r4 * b + (r4 * r4) * d;
-    let scale = f64::from_bits(((1023 + k as i64) as u64) << 52);
+    // `2^k`: the biased exponent `k + 1023` (in [13, 1096]) from the low bits of `k`'s, which
+    // are all the shift keeps.
+    let scale = f64::from_bits(k_bits.wrapping_add(1023) << 52);
     (scale, p)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The low bits of `x + 1.5·2^52` are the rounded integer's (two's complement) over the
+    /// whole range the reduction and the exponential use them in.
+    #[test]
+    fn round_bits_carry_the_integer() {
+        let mut x = -1.1e6;
+        while x < 1.1e6 {
+            for y in [x, x * 1e-3, x * 1e-6] {
+                let (n, bits) = round_bits(y);
+                let exact = n as i64;
+                assert_eq!(n, (y + TO_INT) - TO_INT, "{y}");
+                assert_eq!(bits & 0xfff, (exact as u64) & 0xfff, "{y}");
+                let k = round_bits(y * 1e-3).1;
+                if (-1010..=73).contains(&(round(y * 1e-3) as i64)) {
+                    let two_k = f64::from_bits(k.wrapping_add(1023) << 52);
+                    assert_eq!(two_k, libm::exp2(round(y * 1e-3)), "{y}");
+                }
+            }
+            x += 0.37;
+        }
+    }
 
     #[test]
     fn sin_cos_is_sin_and_cos_bit_for_bit() {
