@@ -306,6 +306,27 @@ impl<L: FrictionLaw> StringModel<L> {
         [v, force * sec.inv_m, ds]
     }
 
+    /// The force on section `i` at `t` in the state `y` of the whole string other than its
+    /// friction: its drive force, the links on either side and the end elements `ends` (those
+    /// acting on it); [`StringModel::section_rates`]'s `m·dv/dt + F_Fx`.
+    #[inline(always)]
+    pub fn pushing(&self, i: usize, t: f64, y: &[f64], ends: &Forces) -> f64 {
+        let mut force = self.inputs.f_d[i].at(t);
+        if i > 0 {
+            force -= self.link(i - 1, y);
+        }
+        if i + 1 < self.n() {
+            force += self.link(i, y);
+        }
+        if i == 0 {
+            force += ends.top;
+        }
+        if i + 1 == self.n() {
+            force -= ends.bottom;
+        }
+        force
+    }
+
     /// The force in link `i` (between sections `i` and `i + 1`, 0-based), tension positive.
     #[inline(always)]
     pub fn link(&self, i: usize, y: &[f64]) -> f64 {

@@ -401,6 +401,7 @@ fn accept_step<L: FrictionLaw>(
     }
     // The integrals on the stages Newton solved, before `reflux` corrects the last one.
     let stages = &*step.stages;
+    let ends: [_; 3] = std::array::from_fn(|k| model.ends(t + C[k] * h, &stages[k]));
     let mut next = refined.iter().peekable();
     for (i, integral) in integrals[..n].iter_mut().enumerate() {
         if let Some((_, r)) = next.next_if(|(j, _)| *j == i) {
@@ -408,9 +409,23 @@ fn accept_step<L: FrictionLaw>(
             continue;
         }
         let (kv, ks) = (PER_SECTION * i + 1, PER_SECTION * i + 2);
-        for (k, y) in stages.iter().enumerate() {
-            *integral += B[k] * h * model.contact(i, t + C[k] * h, y[kv], y[ks]).1;
+        if model.law(i, t).envelope() == 0.0 {
+            // No dry friction at the step's start (no load): the quadrature itself, which is
+            // exactly 0 where the law has no viscous term either.
+            for (k, y) in stages.iter().enumerate() {
+                *integral += B[k] * h * model.contact(i, t + C[k] * h, y[kv], y[ks]).1;
+            }
+            continue;
         }
+        // The friction's impulse is what pushed the section less its change of momentum: Radau
+        // IIA's last stage is the step's end, `v(t + h) − v(t) = h·Σ B[k]·dv/dt(stage k)`, so
+        // this is the collocation quadrature of the friction itself (to the Newton iteration's
+        // residual), without the law's evaluations at the stages again.
+        let mut push = 0.0;
+        for (k, (y, ends)) in stages.iter().zip(&ends).enumerate() {
+            push += B[k] * h * model.pushing(i, t + C[k] * h, y, ends);
+        }
+        *integral += push - (stages[2][kv] - step.y0[kv]) * model.sections[i].params.m;
     }
     // The end forces: by the collocation quadrature, or from the position integral and the
     // displacement of an end section integrated again (the ends' points in closed form).
@@ -423,9 +438,7 @@ fn accept_step<L: FrictionLaw>(
             l.k_top * (x_top_int - r.position)
                 + l.c_top * ((inp.x_top(step.t1) - inp.x_top(t)) - (r.y[0] - step.y0[0]))
         }
-        None => (0..3)
-            .map(|k| B[k] * h * model.ends(t + C[k] * h, &stages[k]).top)
-            .sum(),
+        None => (0..3).map(|k| B[k] * h * ends[k].top).sum(),
     };
     integrals[n + 1] += match own(n - 1) {
         Some(r) => {
@@ -433,9 +446,7 @@ fn accept_step<L: FrictionLaw>(
                 + l.c_bottom
                     * ((r.y[0] - step.y0[last]) - (inp.x_bottom(step.t1) - inp.x_bottom(t)))
         }
-        None => (0..3)
-            .map(|k| B[k] * h * model.ends(t + C[k] * h, &stages[k]).bottom)
-            .sum(),
+        None => (0..3).map(|k| B[k] * h * ends[k].bottom).sum(),
     };
     if !refined.is_empty() {
         refine::reflux(model, h, step.y0, step.stages, &refined);
