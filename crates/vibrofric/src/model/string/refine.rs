@@ -16,55 +16,46 @@ use crate::solver::{OdeSystem, Quad, Radau5, SolverError, Workspace, B, C, MAX_S
 
 use super::equations::{StringModel, PER_SECTION};
 
-/// A neighbour's position and velocity over the step: the step's collocation polynomial, its
-/// value at the start and its increments at the three stages.
+/// A neighbour's position and velocity over the step: the step's collocation polynomial (its
+/// value at the start and its increments at the three stages), as `p0 + θ·(p1 + θ·(p2 + θ·p3))`
+/// in the fraction `θ` of the step.
 #[derive(Clone, Copy, Debug)]
 struct Trajectory {
     x: [f64; 4],
     v: [f64; 4],
 }
 
+/// The cubic through 0 at `θ = 0` and the increments `d` at the nodes `C`: its coefficients of
+/// `θ`, `θ²`, `θ³`. The Lagrange basis `θ/C[k]·Π_{m≠k}(θ − C[m])/(C[k] − C[m])` multiplied out.
+fn monomial(d: [f64; 3]) -> [f64; 3] {
+    let mut c = [0.0; 3];
+    for k in 0..3 {
+        let (a, b) = (C[(k + 1) % 3], C[(k + 2) % 3]);
+        let w = d[k] / (C[k] * (C[k] - a) * (C[k] - b));
+        c[0] += w * a * b;
+        c[1] -= w * (a + b);
+        c[2] += w;
+    }
+    c
+}
+
 impl Trajectory {
     fn of(j: usize, y0: &[f64], stages: &[Vec<f64>; 3]) -> Self {
-        let (kx, kv) = (PER_SECTION * j, PER_SECTION * j + 1);
+        let of = |i: usize| {
+            let c = monomial(std::array::from_fn(|k| stages[k][i] - y0[i]));
+            [y0[i], c[0], c[1], c[2]]
+        };
         Trajectory {
-            x: [
-                y0[kx],
-                stages[0][kx] - y0[kx],
-                stages[1][kx] - y0[kx],
-                stages[2][kx] - y0[kx],
-            ],
-            v: [
-                y0[kv],
-                stages[0][kv] - y0[kv],
-                stages[1][kv] - y0[kv],
-                stages[2][kv] - y0[kv],
-            ],
+            x: of(PER_SECTION * j),
+            v: of(PER_SECTION * j + 1),
         }
     }
 
     #[inline(always)]
-    fn at(&self, l: &[f64; 3]) -> (f64, f64) {
-        (
-            self.x[0] + self.x[1] * l[0] + self.x[2] * l[1] + self.x[3] * l[2],
-            self.v[0] + self.v[1] * l[0] + self.v[2] * l[1] + self.v[3] * l[2],
-        )
+    fn at(&self, theta: f64) -> (f64, f64) {
+        let p = |c: &[f64; 4]| c[0] + theta * (c[1] + theta * (c[2] + theta * c[3]));
+        (p(&self.x), p(&self.v))
     }
-}
-
-/// The Lagrange basis on the collocation nodes `C` (and 0, where every increment vanishes) at
-/// the fraction `theta` of the step.
-#[inline(always)]
-fn basis(theta: f64) -> [f64; 3] {
-    std::array::from_fn(|k| {
-        let mut l = theta / C[k];
-        for (m, &cm) in C.iter().enumerate() {
-            if m != k {
-                l *= (theta - cm) / (C[k] - cm);
-            }
-        }
-        l
-    })
 }
 
 /// What holds section `i` besides its contact: its links' and end elements' stiffness and
@@ -114,13 +105,13 @@ impl<L: FrictionLaw> SectionOde<'_, L> {
         let hd = &self.holders;
         let mut held = 0.0;
         if hd.left.is_some() || hd.right.is_some() {
-            let l = basis((t - self.t0) * self.inv_h);
+            let theta = (t - self.t0) * self.inv_h;
             if let Some((k, c, tr)) = hd.left {
-                let (xn, vn) = tr.at(&l);
+                let (xn, vn) = tr.at(theta);
                 held += k * (xn - x) + c * (vn - v);
             }
             if let Some((k, c, tr)) = hd.right {
-                let (xn, vn) = tr.at(&l);
+                let (xn, vn) = tr.at(theta);
                 held += k * (xn - x) + c * (vn - v);
             }
         }
@@ -420,6 +411,30 @@ pub fn reflux<L: FrictionLaw>(
             let k = PER_SECTION * i;
             stages[2][k + 1] += dv;
             stages[2][k] += 0.5 * h * dv;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The increments of a cubic through 0 at the nodes give back its coefficients.
+    #[test]
+    fn a_trajectory_is_the_cubic_through_its_stages() {
+        let q = |t: f64| 0.3 * t - 1.7 * t * t + 2.9 * t * t * t;
+        let c = monomial(std::array::from_fn(|k| q(C[k])));
+        for (got, want) in c.iter().zip([0.3, -1.7, 2.9]) {
+            assert!((got - want).abs() < 1e-13, "{c:?}");
+        }
+        let y0 = vec![5.0, -2.0, 0.1];
+        let stages: [Vec<f64>; 3] =
+            std::array::from_fn(|k| vec![5.0 + q(C[k]), -2.0 + 2.0 * q(C[k]), 0.0]);
+        let tr = Trajectory::of(0, &y0, &stages);
+        for theta in [0.0, 0.25, C[0], 0.5, C[1], 1.0] {
+            let (x, v) = tr.at(theta);
+            assert!((x - (5.0 + q(theta))).abs() < 1e-13, "x at {theta}");
+            assert!((v - (-2.0 + 2.0 * q(theta))).abs() < 1e-13, "v at {theta}");
         }
     }
 }
