@@ -296,14 +296,20 @@ impl<L: FrictionLaw> StringModel<L> {
     ) -> [f64; PER_SECTION] {
         let [_, v, s] = *y;
         let (ds, f) = self.contact_over(i, t, w, v, s);
-        let mut force = f_d.at(t) + right - left - f;
+        let force = self.with_ends(i, f_d.at(t) + right - left - f, ends);
+        [v, force * sec.inv_m, ds]
+    }
+
+    /// `force` on section `i` with the end elements' forces `ends` that act on it added.
+    #[inline(always)]
+    fn with_ends(&self, i: usize, mut force: f64, ends: &Forces) -> f64 {
         if i == 0 {
             force += ends.top;
         }
         if i + 1 == self.n() {
             force -= ends.bottom;
         }
-        [v, force * sec.inv_m, ds]
+        force
     }
 
     /// The force on section `i` at `t` in the state `y` of the whole string other than its
@@ -318,13 +324,7 @@ impl<L: FrictionLaw> StringModel<L> {
         if i + 1 < self.n() {
             force += self.link(i, y);
         }
-        if i == 0 {
-            force += ends.top;
-        }
-        if i + 1 == self.n() {
-            force -= ends.bottom;
-        }
-        force
+        self.with_ends(i, force, ends)
     }
 
     /// The force in link `i` (between sections `i` and `i + 1`, 0-based), tension positive.

@@ -104,16 +104,10 @@ impl<L: FrictionLaw> SectionOde<'_, L> {
         let (ds, f) = law.rate_force_at(s, vr, &law.velocity_terms(vr));
         let hd = &self.holders;
         let mut held = 0.0;
-        if hd.left.is_some() || hd.right.is_some() {
-            let theta = (t - self.t0) * self.inv_h;
-            if let Some((k, c, tr)) = hd.left {
-                let (xn, vn) = tr.at(theta);
-                held += k * (xn - x) + c * (vn - v);
-            }
-            if let Some((k, c, tr)) = hd.right {
-                let (xn, vn) = tr.at(theta);
-                held += k * (xn - x) + c * (vn - v);
-            }
+        let theta = (t - self.t0) * self.inv_h;
+        for (k, c, tr) in [hd.left, hd.right].into_iter().flatten() {
+            let (xn, vn) = tr.at(theta);
+            held += k * (xn - x) + c * (vn - v);
         }
         if hd.top {
             held += m.top_force(t, x, v);
