@@ -105,7 +105,7 @@ impl<L: FrictionLaw> SectionOde<'_, L> {
         let hd = &self.holders;
         let mut held = 0.0;
         let theta = (t - self.t0) * self.inv_h;
-        for (k, c, tr) in [hd.left, hd.right].into_iter().flatten() {
+        for (k, c, tr) in [&hd.left, &hd.right].into_iter().flatten() {
             let (xn, vn) = tr.at(theta);
             held += k * (xn - x) + c * (vn - v);
         }
