@@ -15,8 +15,16 @@ ticker=""
 stop_ticker() { if [ -n "$ticker" ]; then kill "$ticker" 2>/dev/null || true; ticker=""; fi; }
 # The Wine server kept running for the whole run (see below), stopped at the end.
 wine_kept=0
+# A process and everything it started.
+kill_tree() {
+    local child
+    for child in $(pgrep -P "$1" || true); do kill_tree "$child"; done
+    kill "$1" 2>/dev/null || true
+}
 finish() {
     stop_ticker
+    # A background build of fmi-sim (step 1) still running when the run stops early.
+    if [ -n "${linux_build:-}" ]; then kill_tree "$linux_build"; fi
     if [ "$wine_kept" = 1 ]; then (source tests/cross/env.sh && wineserver -k) >/dev/null 2>&1 || true; fi
 }
 trap finish EXIT
@@ -41,6 +49,46 @@ if [ -z "$have" ] || [ "$(printf '%s\n%s\n' "$need" "$have" | sort -V | head -1)
     exit 1
 fi
 echo "cargo $have"
+
+# fmi-sim, the partner importer from crates.io, pinned; built once per machine into
+# ~/.cache/vibrofric (VIBROFRIC_CACHE), outside the clone, so that every clone on the machine
+# shares it (its build needs libclang, which .ci/run and tests/cross/setup.sh install), for this
+# machine and for Windows (run under Wine: the Windows importer of tests/python/test_partners.py,
+# which finds them by FMI_SIM and FMI_SIM_WINDOWS).
+FMI_SIM_VERSION=0.7.0
+cache="${VIBROFRIC_CACHE:-$HOME/.cache/vibrofric}"
+case "$cache" in /*) ;; *) cache="$PWD/$cache" ;; esac
+fmi_sim_root="$cache/fmi-sim-$FMI_SIM_VERSION"
+fmi_sim_windows_root="$cache/fmi-sim-$FMI_SIM_VERSION-x86_64-pc-windows-gnu"
+# cargo install fmi-sim into root $1 (further arguments to cargo install), cargo's progress shown
+# as one numbered line per crate compiled.
+install_fmi_sim() {
+    local root=$1
+    shift
+    # A shell loop, not awk: Debian's awk (mawk) reads a pipe in blocks and would hold the lines.
+    cargo install fmi-sim --version "=$FMI_SIM_VERSION" --locked --root "$root" "$@" 2>&1 |
+        {
+            n=0
+            while IFS= read -r line; do
+                case "$line" in
+                *Compiling*) n=$((n + 1)) && printf '  [%3d] %s\n' "$n" "$line" ;;
+                *) printf '%s\n' "$line" ;;
+                esac
+            done
+        }
+}
+# fmi-sim for Linux needs only Rust and libclang (.ci/run installs it): where both are here it is
+# built in the background from now on, beside the next two steps, whose downloads and installs
+# leave the two cores mostly idle; step 4 waits for it.
+linux_build=""
+linux_log="$cache/fmi-sim-$FMI_SIM_VERSION-build.log"
+if [ ! -x "$fmi_sim_root/bin/fmi-sim" ] &&
+    { { ldconfig -p || /sbin/ldconfig -p; } 2>/dev/null || true; } | grep -q 'libclang\(-[0-9.]*\)\?\.so '; then
+    mkdir -p "$cache"
+    echo "building fmi-sim $FMI_SIM_VERSION for Linux in the background (step 4 waits for it; log: $linux_log)"
+    install_fmi_sim "$fmi_sim_root" >"$linux_log" 2>&1 &
+    linux_build=$!
+fi
 
 # Python environment with the pinned packages: fmpy and the test tools, the partner importers
 # libcosimpy and ecospy, and zig + cargo-zigbuild for the portable build; (re)made when the pins
@@ -70,35 +118,23 @@ bash tests/cross/setup.sh
 # 213 s to 36 s.
 (source tests/cross/env.sh && wineserver -p) && wine_kept=1
 
-# fmi-sim, the partner importer from crates.io, pinned; built once per machine into
-# ~/.cache/vibrofric (VIBROFRIC_CACHE), outside the clone, so that every clone on the machine
-# shares it (its build needs libclang, which .ci/run and tests/cross/setup.sh install), for this
-# machine and for Windows (run under Wine: the Windows importer of tests/python/test_partners.py,
-# which finds them by FMI_SIM and FMI_SIM_WINDOWS).
-FMI_SIM_VERSION=0.7.0
-cache="${VIBROFRIC_CACHE:-$HOME/.cache/vibrofric}"
-case "$cache" in /*) ;; *) cache="$PWD/$cache" ;; esac
-fmi_sim_root="$cache/fmi-sim-$FMI_SIM_VERSION"
-fmi_sim_windows_root="$cache/fmi-sim-$FMI_SIM_VERSION-x86_64-pc-windows-gnu"
-# cargo install fmi-sim into root $1 (further arguments to cargo install), cargo's progress shown
-# as one numbered line per crate compiled.
-install_fmi_sim() {
-    local root=$1
-    shift
-    # A shell loop, not awk: Debian's awk (mawk) reads a pipe in blocks and would hold the lines.
-    cargo install fmi-sim --version "=$FMI_SIM_VERSION" --locked --root "$root" "$@" 2>&1 |
-        {
-            n=0
-            while IFS= read -r line; do
-                case "$line" in
-                *Compiling*) n=$((n + 1)) && printf '  [%3d] %s\n' "$n" "$line" ;;
-                *) printf '%s\n' "$line" ;;
-                esac
-            done
-        }
-}
 step "fmi-sim $FMI_SIM_VERSION for Linux and for Windows, partner FMI importers for tests/python/test_partners.py"
-if [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
+if [ -n "$linux_build" ]; then
+    echo "fmi-sim for Linux: waiting for its build, started at step 1 (log: $linux_log)"
+    while kill -0 "$linux_build" 2>/dev/null; do
+        sleep 30
+        echo "    fmi-sim for Linux: $(grep -c 'Compiling' "$linux_log" || true) crates compiled"
+    done
+    build_ok=1
+    wait "$linux_build" || build_ok=0
+    linux_build=""
+    if [ "$build_ok" = 0 ] || [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
+        tail -30 "$linux_log" >&2
+        echo "error: fmi-sim was not installed (log: $linux_log)" >&2
+        exit 1
+    fi
+    echo "fmi-sim for Linux: built"
+elif [ ! -x "$fmi_sim_root/bin/fmi-sim" ]; then
     echo "building it from crates.io into $fmi_sim_root: done once per machine, 7-20 minutes on 2 cores"
     echo "(about 200 crates; cargo's progress below, one numbered line per crate compiled)"
     install_fmi_sim "$fmi_sim_root"
