@@ -360,7 +360,13 @@ impl<L: FrictionLaw> StringModel<L> {
 
     /// `∂(dx/dt, dv/dt, ds/dt)/∂(x, v, s)` of section `i` at `t` with velocity `v` and
     /// deformation `s`, its neighbours held: the diagonal block of the string's Jacobian.
-    fn own_block(&self, i: usize, t: f64, v: f64, s: f64) -> [[f64; PER_SECTION]; PER_SECTION] {
+    pub(super) fn own_block(
+        &self,
+        i: usize,
+        t: f64,
+        v: f64,
+        s: f64,
+    ) -> [[f64; PER_SECTION]; PER_SECTION] {
         let (_, _, _, lj) = self.partials(i, t, v, s);
         let inv_m = self.sections[i].inv_m;
         let (k_sum, c_sum) = self.holding(i);
@@ -567,7 +573,7 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::model::string::StringParams;
     use crate::physics::{Dahl, Dupont, LuGre};
@@ -589,7 +595,11 @@ mod tests {
     /// points, every input a track with a slope; where the load is an input, sections 0, 3,
     /// 6, ... hold theirs (the law built once), the others ramp (built at each evaluation), one
     /// of them below 0 (no load).
-    fn model<L: FrictionLaw>(n: usize, harmonic: bool, normal_input: bool) -> StringModel<L> {
+    pub(in crate::model::string) fn model<L: FrictionLaw>(
+        n: usize,
+        harmonic: bool,
+        normal_input: bool,
+    ) -> StringModel<L> {
         let mut r = Numbers(n as u64 + 7);
         let shared = Params {
             h_v: 20.0,

@@ -6,10 +6,12 @@
 //! contact's tolerance, whatever the communication step. Each section's error is held to the
 //! tolerance on its own; a section whose error fails in a step (a reversal, its contact damping
 //! switching) is integrated again alone over that step with its neighbours on the string's
-//! step, so that its transient costs its own short steps, not the whole string's.
+//! step, so that its transient costs its own short steps, not the whole string's; adjacent
+//! sections that fail together are integrated again together.
 //!
 //! - `equations.rs`: the right-hand side, its banded Jacobian and the forces;
 //! - `refine.rs`: a section integrated again alone;
+//! - `run.rs`: adjacent sections integrated again together;
 //! - `single.rs`: one section with free ends, which is the single contact and is simulated as
 //!   it (bit for bit the scene without `[string]`);
 //! - `exchange.rs`: the string for an importer's integrator (Model Exchange);
@@ -23,6 +25,7 @@ mod equations;
 mod exchange;
 mod params;
 mod refine;
+mod run;
 mod single;
 mod values;
 
@@ -144,7 +147,8 @@ pub trait StringSimulator: StringExchange + Send {
     /// The string's steps (`steps`, `rejected`), and every integrator's work (right-hand
     /// sides, Jacobians, located events).
     fn stats(&self) -> StepStats;
-    /// The steps (accepted and rejected) of the sections integrated again alone.
+    /// The steps (accepted and rejected) of the sections integrated again (alone, or a run's
+    /// steps once for the run).
     fn section_steps(&self) -> u64 {
         0
     }
@@ -370,34 +374,65 @@ fn accept_step<L: FrictionLaw>(
 ) -> Result<(), SolverError> {
     let n = model.n();
     let (t, h) = (step.t, step.h);
-    // The sections integrated again, each against the string's step; then (after the step's
-    // integrals) their new states and the links' impulses made to agree (`refine::reflux`).
+    // The sections integrated again, alone or in runs, against the string's step; then (after
+    // the step's integrals) their new states and the links' impulses made to agree
+    // (`refine::reflux`; a run's inner links agree by themselves).
     let mut refined: Vec<(usize, refine::Refined)> = Vec::with_capacity(step.refine.len());
     if !step.refine.is_empty() {
         model.error_scale(step.y0, scratch);
     }
-    for &i in step.refine {
-        let x_scale = scratch[PER_SECTION * i];
-        let r = refine::refine(
-            model,
-            i,
-            t,
-            step.t1,
-            step.y0,
-            step.stages,
-            nominal,
-            x_scale,
-            tol,
-            own_steps[i],
-            work3,
-        )?;
-        own_steps[i] = r.next_step;
-        stats.steps += r.stats.steps;
-        stats.rejected += r.stats.rejected;
-        stats.rhs_evals += r.stats.rhs_evals;
-        stats.jacobians += r.stats.jacobians;
-        stats.events += r.stats.events;
-        refined.push((i, r));
+    // Runs of sections side by side whose errors failed: together where one of them is far
+    // off (`run.rs`: integrated alone against its trajectory of the step, its neighbours
+    // would be as far off), else each alone.
+    let mut at = 0;
+    while at < step.refine.len() {
+        let first = step.refine[at];
+        let mut len = 1;
+        while step.refine.get(at + len) == Some(&(first + len)) {
+            len += 1;
+        }
+        if !step.far[at..at + len].contains(&true) {
+            len = 1;
+        }
+        at += len;
+        let results = if len == 1 {
+            let x_scale = scratch[PER_SECTION * first];
+            vec![refine::refine(
+                model,
+                first,
+                t,
+                step.t1,
+                step.y0,
+                step.stages,
+                nominal,
+                x_scale,
+                tol,
+                own_steps[first],
+                work3,
+            )?]
+        } else {
+            run::refine_run(
+                model,
+                (first, len),
+                t,
+                step.t1,
+                step.y0,
+                step.stages,
+                (nominal, scratch),
+                tol,
+                own_steps,
+            )?
+        };
+        for (j, r) in results.into_iter().enumerate() {
+            let i = first + j;
+            own_steps[i] = r.next_step;
+            stats.steps += r.stats.steps;
+            stats.rejected += r.stats.rejected;
+            stats.rhs_evals += r.stats.rhs_evals;
+            stats.jacobians += r.stats.jacobians;
+            stats.events += r.stats.events;
+            refined.push((i, r));
+        }
     }
     // The integrals on the stages Newton solved, before `reflux` corrects the last one.
     let stages = &*step.stages;

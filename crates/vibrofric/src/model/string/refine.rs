@@ -20,7 +20,7 @@ use super::equations::{StringModel, PER_SECTION};
 /// value at the start and its increments at the three stages), as `p0 + θ·(p1 + θ·(p2 + θ·p3))`
 /// in the fraction `θ` of the step.
 #[derive(Clone, Copy, Debug)]
-struct Trajectory {
+pub(super) struct Trajectory {
     x: [f64; 4],
     v: [f64; 4],
 }
@@ -40,7 +40,7 @@ fn monomial(d: [f64; 3]) -> [f64; 3] {
 }
 
 impl Trajectory {
-    fn of(j: usize, y0: &[f64], stages: &[Vec<f64>; 3]) -> Self {
+    pub(super) fn of(j: usize, y0: &[f64], stages: &[Vec<f64>; 3]) -> Self {
         let of = |i: usize| {
             let c = monomial(std::array::from_fn(|k| stages[k][i] - y0[i]));
             [y0[i], c[0], c[1], c[2]]
@@ -52,7 +52,7 @@ impl Trajectory {
     }
 
     #[inline(always)]
-    fn at(&self, theta: f64) -> (f64, f64) {
+    pub(super) fn at(&self, theta: f64) -> (f64, f64) {
         let p = |c: &[f64; 4]| c[0] + theta * (c[1] + theta * (c[2] + theta * c[3]));
         (p(&self.x), p(&self.v))
     }
@@ -227,6 +227,9 @@ pub struct Refined {
     pub position: f64,
     pub stats: crate::solver::SolverStats,
     pub next_step: f64,
+    /// Integrated together with the next section (`run.rs`): the link between them is
+    /// resolved in their own steps, its impulse the same on both sides.
+    pub joined_next: bool,
 }
 
 /// Integrates section `i` again from `t0` (state `y0`) to `t1` with its neighbours on the
@@ -318,6 +321,7 @@ pub fn refine<L: FrictionLaw>(
         position: y0[k] * (t1 - t0) + q[1],
         stats: r.stats,
         next_step: r.proposed_step(),
+        joined_next: false,
     })
 }
 
@@ -379,6 +383,10 @@ pub fn reflux<L: FrictionLaw>(
             last_link = Some(a);
             let b = a + 1;
             let (ra, rb) = (own(a, &mut at_a), own(b, &mut at_b));
+            if ra.is_some_and(|r| r.joined_next) {
+                // Inside a run integrated together: both felt the same impulse.
+                continue;
+            }
             let (k, c) = (model.links.k_s[a], model.links.c_s[a]);
             let impulse =
                 |(xa, da): (f64, f64), (xb, db): (f64, f64)| k * (xb - xa) + c * (db - da);

@@ -23,9 +23,10 @@
 //!   tolerance on its own, and where it fails in a few blocks only, the step is accepted for
 //!   the others and those blocks are handed to the caller to integrate again alone (the
 //!   multirate strategy of Savcenco, Hundsdorfer and Verwer, BIT 47, 2007). A body with a fast
-//!   transient of its own then costs its own short steps, not the whole chain's; but not two
-//!   bodies side by side, one of them off by more than [`REFINED_ERR_MAX`]: each would be
-//!   integrated again against the other's trajectory of the step.
+//!   transient of its own then costs its own short steps, not the whole chain's (blocks side
+//!   by side are for the caller to integrate again together). A system that takes over no
+//!   blocks ([`BandSystem::max_refined`] 0) holds every block to the tolerance: the step's
+//!   error is its worst block's.
 //!
 //! Kinks of the right-hand side (the relative velocity of a contact through zero) are not
 //! located here: the error control steps over them, or the caller's integration of a block
@@ -59,7 +60,8 @@ pub trait BandSystem {
     fn block(&self) -> usize {
         0
     }
-    /// The most blocks the caller takes over in one step; beyond, the step is rejected.
+    /// The most blocks the caller takes over in one step; beyond, the step is rejected (0:
+    /// none, and then each block's error must pass on its own).
     fn max_refined(&self) -> usize {
         0
     }
@@ -104,6 +106,11 @@ pub struct Accepted<'a> {
     pub stages: &'a mut [Vec<f64>; 3],
     /// The blocks whose own error failed, for the caller to integrate again (ascending).
     pub refine: &'a [usize],
+    /// For each of them, whether it is off by more than [`FAR`] times its tolerance in what its
+    /// neighbours feel of it: a neighbour integrated again against its trajectory of the step
+    /// would be as far off, so that blocks side by side, one of them far, are for the caller
+    /// to integrate again together.
+    pub far: &'a [bool],
 }
 
 /// Most Newton iterations per attempt.
@@ -123,25 +130,12 @@ const KEEP_STEP: f64 = 1.2;
 /// Where the iteration of the whole system is too slow, up to this many times
 /// [`BandSystem::max_local`] blocks are iterated alone before the step is given up.
 const SLOW_LOCAL: usize = 4;
-/// Two blocks side by side whose own errors failed are each integrated again against the
-/// other's trajectory of the step: where one of them is off, in what its neighbour feels of it
-/// (all of it, or a body's position and velocity in a chain), by more than this many times its
-/// tolerance (its own steps would be about 10 times shorter), the step is rejected. A choice
-/// on the work–precision curve, measured on `tests/string.rs`'s 16 sections against its
-/// reference (largest error of positions, velocities and forces over 6 tolerances from 0.6 to
-/// 2 times 1e-6, then 1e-8, in units of the tolerance) and on `string_bench`'s drill string
-/// (string steps over 0.3 s at 20 / 100 sections):
-///
-/// | bound | errors around 1e-6 | around 1e-8 | steps |
-/// |---|---|---|---|
-/// | 3e3 | 0.53–1.53 | 0.33–1.12 | 9970 / 9677 |
-/// | **1e4** | 0.65–3.73 | 0.82–2.38 | 8913 / 8287 |
-/// | 3e4 | 3.13–11.3 | 1.14–6.84 | 8530 / 7947 |
-/// | 1e5 | 3.89–11.3 | 3.88–25.4 | 8373 / 7917 |
-///
-/// (Before the sweep of [`SLOW_LOCAL`], without this bound: 1.8–9.5 and 5.8–16, 8477 / 7770
-/// steps.)
-const REFINED_ERR_MAX: f64 = 1e4;
+/// A block whose own error failed and is off by more than this many times its tolerance in
+/// what its neighbours feel of it (its own steps would be about 10 times shorter) is marked
+/// [`Accepted::far`]. The string integrates such a section and the sections beside it whose
+/// errors failed too again together (`model/string/run.rs`); before, the step was rejected
+/// (1e4 was the bound's best place on the work–precision curve then).
+const FAR: f64 = 1e4;
 
 /// The integrator's state: all that a continuation needs (scratch space is in [`BandWork`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -195,6 +189,8 @@ pub struct BandWork {
     pub stages: [Vec<f64>; 3],
     /// The blocks of the attempted step whose own error failed.
     refine: Vec<usize>,
+    /// Whether each of them is off by more than [`FAR`] times its tolerance.
+    far: Vec<bool>,
     /// The blocks iterated alone in the attempt's Newton iteration (`local.rs`).
     pub(super) local: Vec<usize>,
     /// Each block's scaled update (RMS) in the iteration just taken and in the one before.
@@ -224,6 +220,7 @@ impl BandWork {
             tmp: v(),
             stages: [v(), v(), v()],
             refine: Vec::new(),
+            far: Vec::new(),
             local: Vec::new(),
             norms: [Vec::new(), Vec::new()],
             block_lus: Default::default(),
@@ -429,6 +426,7 @@ impl BandRadau {
                 y0: &self.y,
                 stages: &mut work.stages,
                 refine: &work.refine,
+                far: &work.far,
             })?;
             // The collocation polynomial, for the next step's starting values.
             let (z1, z2, z3) = (&work.z[0][..n], &work.z[1][..n], &work.z[2][..n]);
@@ -705,36 +703,39 @@ impl BandRadau {
             return 1e10;
         }
         work.refine.clear();
+        work.far.clear();
         let b = sys.block();
         if b == 0 {
             return err;
+        }
+        if sys.max_refined() == 0 {
+            // No block taken over: the step's error is its worst block's.
+            return work.dw[..n]
+                .chunks(b)
+                .zip(work.scal[..n].chunks(b))
+                .map(|(dw, scal)| rms(dw, scal))
+                .fold(err, f64::max);
         }
         // The blocks whose own error fails: if few, the step's error is the others'. What
         // the neighbours feel of a block: all of it, or in a chain of bodies `[x, v, s]`
         // their position and velocity.
         let felt = if sys.chain() { b.min(2) } else { b };
-        // The last block to integrate again, and whether its error in what its neighbours feel
-        // is beyond [`REFINED_ERR_MAX`].
-        let mut last: Option<(usize, bool)> = None;
         let mut latent = 0.0;
         for (k, (dw, scal)) in work.dw.chunks(b).zip(work.scal.chunks(b)).enumerate() {
             let sum: f64 = dw.iter().zip(scal).map(|(a, s)| (a / s) * (a / s)).sum();
             if sum > b as f64 {
+                if work.refine.len() == sys.max_refined() {
+                    work.refine.clear();
+                    work.far.clear();
+                    return err;
+                }
                 let off: f64 = dw[..felt]
                     .iter()
                     .zip(&scal[..felt])
                     .map(|(a, s)| (a / s) * (a / s))
                     .sum();
-                let far = off > REFINED_ERR_MAX.powi(2) * felt as f64;
-                // Two blocks side by side, each integrated again against the other's trajectory
-                // of the step, one of them that far off: the step is rejected.
-                let beside_far = last.is_some_and(|(j, far_j)| j + 1 == k && (far || far_j));
-                if work.refine.len() == sys.max_refined() || beside_far {
-                    work.refine.clear();
-                    return err;
-                }
-                last = Some((k, far));
                 work.refine.push(k);
+                work.far.push(off > FAR * FAR * felt as f64);
             } else {
                 latent += sum;
             }
