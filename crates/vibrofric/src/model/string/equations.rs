@@ -360,13 +360,7 @@ impl<L: FrictionLaw> StringModel<L> {
 
     /// `∂(dx/dt, dv/dt, ds/dt)/∂(x, v, s)` of section `i` at `t` with velocity `v` and
     /// deformation `s`, its neighbours held: the diagonal block of the string's Jacobian.
-    pub(super) fn own_block(
-        &self,
-        i: usize,
-        t: f64,
-        v: f64,
-        s: f64,
-    ) -> [[f64; PER_SECTION]; PER_SECTION] {
+    fn own_block(&self, i: usize, t: f64, v: f64, s: f64) -> [[f64; PER_SECTION]; PER_SECTION] {
         let (_, _, _, lj) = self.partials(i, t, v, s);
         let inv_m = self.sections[i].inv_m;
         let (k_sum, c_sum) = self.holding(i);
@@ -379,6 +373,37 @@ impl<L: FrictionLaw> StringModel<L> {
             ],
             [0.0, lj.rate_v[0][0], lj.rate_s[0][0]],
         ]
+    }
+
+    /// Section `i`'s rows of a Jacobian (its state `yi` at `t`), at rows and columns from `k`
+    /// on: its own block, and its links' columns where the section before it and the one after
+    /// it are unknowns of the same system (`left`, `right`; the string's, or a run's in
+    /// `run.rs`).
+    pub(super) fn section_jacobian(
+        &self,
+        i: usize,
+        t: f64,
+        yi: &[f64],
+        k: usize,
+        (left, right): (bool, bool),
+        jac: &mut Band<f64>,
+    ) {
+        let l = &self.links;
+        let inv_m = self.sections[i].inv_m;
+        if left {
+            jac.set(k + 1, k - PER_SECTION, l.k_s[i - 1] * inv_m);
+            jac.set(k + 1, k - PER_SECTION + 1, l.c_s[i - 1] * inv_m);
+        }
+        if right {
+            jac.set(k + 1, k + PER_SECTION, l.k_s[i] * inv_m);
+            jac.set(k + 1, k + PER_SECTION + 1, l.c_s[i] * inv_m);
+        }
+        let own = self.own_block(i, t, yi[1], yi[2]);
+        for (r, row) in own.iter().enumerate() {
+            for (c, &v) in row.iter().enumerate() {
+                jac.set(k + r, k + c, v);
+            }
+        }
     }
 
     /// The force in link `i` from the states `[x, v, ...]` of the sections it joins.
@@ -492,24 +517,9 @@ impl<L: FrictionLaw> BandSystem for StringModel<L> {
 
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut Band<f64>) {
         let n = self.n();
-        let l = &self.links;
         for i in 0..n {
             let k = PER_SECTION * i;
-            let inv_m = self.sections[i].inv_m;
-            if i > 0 {
-                jac.set(k + 1, k - PER_SECTION, l.k_s[i - 1] * inv_m);
-                jac.set(k + 1, k - PER_SECTION + 1, l.c_s[i - 1] * inv_m);
-            }
-            if i + 1 < n {
-                jac.set(k + 1, k + PER_SECTION, l.k_s[i] * inv_m);
-                jac.set(k + 1, k + PER_SECTION + 1, l.c_s[i] * inv_m);
-            }
-            let own = self.own_block(i, t, y[k + 1], y[k + 2]);
-            for (r, row) in own.iter().enumerate() {
-                for (c, &v) in row.iter().enumerate() {
-                    jac.set(k + r, k + c, v);
-                }
-            }
+            self.section_jacobian(i, t, &y[k..k + PER_SECTION], k, (i > 0, i + 1 < n), jac);
         }
     }
 

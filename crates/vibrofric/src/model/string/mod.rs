@@ -395,9 +395,10 @@ fn accept_step<L: FrictionLaw>(
             len = 1;
         }
         at += len;
-        let results = if len == 1 {
+        let from = refined.len();
+        if len == 1 {
             let x_scale = scratch[PER_SECTION * first];
-            vec![refine::refine(
+            let r = refine::refine(
                 model,
                 first,
                 t,
@@ -409,9 +410,10 @@ fn accept_step<L: FrictionLaw>(
                 tol,
                 own_steps[first],
                 work3,
-            )?]
+            )?;
+            refined.push((first, r));
         } else {
-            run::refine_run(
+            let run = run::refine_run(
                 model,
                 (first, len),
                 t,
@@ -421,17 +423,16 @@ fn accept_step<L: FrictionLaw>(
                 (nominal, scratch),
                 tol,
                 own_steps,
-            )?
-        };
-        for (j, r) in results.into_iter().enumerate() {
-            let i = first + j;
-            own_steps[i] = r.next_step;
+            )?;
+            refined.extend((first..).zip(run));
+        }
+        for (i, r) in &refined[from..] {
+            own_steps[*i] = r.next_step;
             stats.steps += r.stats.steps;
             stats.rejected += r.stats.rejected;
             stats.rhs_evals += r.stats.rhs_evals;
             stats.jacobians += r.stats.jacobians;
             stats.events += r.stats.events;
-            refined.push((i, r));
         }
     }
     // The integrals on the stages Newton solved, before `reflux` corrects the last one.

@@ -78,25 +78,29 @@ impl<L: FrictionLaw> BandSystem for RunOde<'_, L> {
         let m = self.model;
         let theta = (t - self.t0) * self.inv_h;
         let last = self.len - 1;
+        // The tension of the link on the section's left (an inner link's computed once, as
+        // the right link of the section before): `k·Δx + c·Δv` across it.
+        let mut left = match &self.left {
+            Some((k, c, tr)) => {
+                let (xn, vn) = tr.at(theta);
+                let (x, v) = self.at(0, y);
+                k * (x - xn) + c * (v - vn)
+            }
+            None => 0.0,
+        };
         for j in 0..self.len {
             let i = self.first + j;
             let (x, v) = self.at(j, y);
             let s = y[PER_SECTION * j + 2];
             let (ds, f) = m.contact(i, t, v, s);
-            let mut held = 0.0;
-            let mut link = |k: f64, c: f64, (xn, vn): (f64, f64)| {
-                held += k * (xn - x) + c * (vn - v);
+            let towards = |k: f64, c: f64, (xn, vn): (f64, f64)| k * (xn - x) + c * (vn - v);
+            let right = match (j == last, &self.right) {
+                (true, Some((k, c, tr))) => towards(*k, *c, tr.at(theta)),
+                (true, None) => 0.0,
+                (false, _) => towards(m.links.k_s[i], m.links.c_s[i], self.at(j + 1, y)),
             };
-            match (j, &self.left) {
-                (0, Some((k, c, tr))) => link(*k, *c, tr.at(theta)),
-                (0, None) => {}
-                _ => link(m.links.k_s[i - 1], m.links.c_s[i - 1], self.at(j - 1, y)),
-            }
-            match (j == last, &self.right) {
-                (true, Some((k, c, tr))) => link(*k, *c, tr.at(theta)),
-                (true, None) => {}
-                (false, _) => link(m.links.k_s[i], m.links.c_s[i], self.at(j + 1, y)),
-            }
+            let mut held = right - left;
+            left = right;
             if i == 0 {
                 held += m.top_force(t, x, v);
             }
@@ -113,25 +117,12 @@ impl<L: FrictionLaw> BandSystem for RunOde<'_, L> {
 
     /// The string's Jacobian ([`StringModel`]'s) on the run's rows and columns.
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut Band<f64>) {
-        let m = self.model;
-        let l = &m.links;
         for j in 0..self.len {
-            let (i, k) = (self.first + j, PER_SECTION * j);
-            let inv_m = m.sections[i].inv_m;
-            if j > 0 {
-                jac.set(k + 1, k - PER_SECTION, l.k_s[i - 1] * inv_m);
-                jac.set(k + 1, k - PER_SECTION + 1, l.c_s[i - 1] * inv_m);
-            }
-            if j + 1 < self.len {
-                jac.set(k + 1, k + PER_SECTION, l.k_s[i] * inv_m);
-                jac.set(k + 1, k + PER_SECTION + 1, l.c_s[i] * inv_m);
-            }
-            let own = m.own_block(i, t, y[k + 1], y[k + 2]);
-            for (r, row) in own.iter().enumerate() {
-                for (c, &v) in row.iter().enumerate() {
-                    jac.set(k + r, k + c, v);
-                }
-            }
+            let k = PER_SECTION * j;
+            let inside = (j > 0, j + 1 < self.len);
+            let yj = &y[k..k + PER_SECTION];
+            self.model
+                .section_jacobian(self.first + j, t, yj, k, inside, jac);
         }
     }
 
