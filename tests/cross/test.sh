@@ -104,8 +104,13 @@ if [ "$which" != windows ]; then
     suites=(-p vibrofric -p vibrofric-import --lib)
     part "building the ARM Linux tests with cargo-zigbuild (the first time 2-4 minutes)"
     cargo-zigbuild test --release --target "$arm.2.17" --no-run -q "${suites[@]}"
+    # Less one: the elastoplastic branch against its reference integration (up to 1.2 million
+    # Runge-Kutta steps per case, 69 million in all: 97 s alone under qemu, where the library's
+    # unit tests took 106 to 120 s with it). Its arithmetic runs on ARM in the co-simulation
+    # below (VibratingContactDupont), which must match x86-64 bit for bit.
     foreign_test "the library's and the importer's unit tests" \
-        cargo-zigbuild test --release --target "$arm.2.17" "${suites[@]}"
+        cargo-zigbuild test --release --target "$arm.2.17" "${suites[@]}" \
+        -- --skip physics::elastoplastic::tests::branch_follows_the_rate_to_rounding
     part "co-simulating every FMU of $dist with its aarch64 and its x86-64 Linux library"
     cargo zigbuild --release -q -p vibrofric-import --example run_fmus --target "$arm.2.17"
     [ -d "$dist/aarch64-linux" ] || {
