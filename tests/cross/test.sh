@@ -105,7 +105,7 @@ if [ "$which" != windows ]; then
     part "building the ARM Linux tests with cargo-zigbuild (the first time 2-4 minutes)"
     cargo-zigbuild test --release --target "$arm.2.17" --no-run -q "${suites[@]}"
     # Less one: the elastoplastic branch against its reference integration (up to 1.2 million
-    # Runge-Kutta steps per case, 69 million in all: 97 s alone under qemu, where the library's
+    # Runge-Kutta steps per case, 60 million in all: 97 s alone under qemu, where the library's
     # unit tests took 106 to 120 s with it). Its arithmetic runs on ARM in the co-simulation
     # below (VibratingContactDupont), which must match x86-64 bit for bit.
     foreign_test "the library's and the importer's unit tests" \
