@@ -3,9 +3,11 @@
 //! sides) and, with a reference file, the largest `F_Fx` and `F_Fy` errors at the 1 ms
 //! communication points relative to `F_C`.
 //!
-//! cargo run --release --example planar_probe NAME TOL T [REF]   (`KT=<k_t>` in the
-//! environment replaces the scene's contact stiffness; REF a file of `F_Fx F_Fy` lines, one
-//! per 1 ms: compared against where it exists, written where not)
+//! cargo run --release --example planar_probe NAME TOL T [REF]   (in the environment,
+//! `KT=<k_t>` replaces the scene's contact stiffness, `ANGLE=<rad>` its vibration's direction
+//! in a planar scene, and `RADAU=1` takes Radau IIA whatever the path, for a reference; REF a
+//! file of `F_Fx F_Fy` lines, one per 1 ms: compared against where it exists, written where
+//! not)
 
 #[path = "../tests/support/scenes.rs"]
 #[allow(dead_code)]
@@ -25,15 +27,21 @@ fn main() {
         .into_iter()
         .find(|(_, s)| s.model_identifier == *name)
         .expect("a standard scene");
-    let p = match std::env::var("KT").ok().and_then(|v| v.parse().ok()) {
-        Some(k_t) => Params { k_t, ..scene.start },
-        None => scene.start,
-    };
+    let env = |name: &str| std::env::var(name).ok().and_then(|v| v.parse::<f64>().ok());
+    let mut p: Params = scene.start;
+    if let Some(k_t) = env("KT") {
+        p.k_t = k_t;
+    }
+    if let Some(angle) = env("ANGLE") {
+        p.angle = angle;
+    }
+    let force_radau = env("RADAU").is_some_and(|r| r != 0.0);
     let n = (t_end / 1e-3).round() as usize;
     let start = ProcessTime::now();
     let mut sim = Setup::new(scene.config, p)
         .inputs(scene.inputs)
         .tolerance(tol)
+        .force_radau(force_radau)
         .build()
         .unwrap();
     let mut f = Vec::with_capacity(n);
