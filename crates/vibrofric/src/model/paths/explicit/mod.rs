@@ -36,7 +36,7 @@ use std::sync::Arc;
 
 /// The largest product of a stuck body's oscillation rate `sqrt(k_t/m)` and the averaging
 /// window for which a Dahl contact that the vibration does not keep sliding
-/// ([`Contact::vibration_unheld`]) takes the explicit path: while its body sticks the explicit
+/// ([`Shared::vibration_unheld`]) takes the explicit path: while its body sticks the explicit
 /// method steps at its stability bound, and Radau IIA is cheaper beyond it. VibratingContact
 /// without vibration, `F_d` = 2 N (stuck), 1 s at tolerance 1e-6, CPU time: explicit 17.6, 56
 /// and 174 ms at `k_t` = 1e10, 1e11 and 1e12 (products 42, 133, 423), Radau 23, 25 and 25 ms;
@@ -56,6 +56,21 @@ const TOL_FRACTION: f64 = 0.4;
 /// tolerances 2.3e-7 and 5.5e-9; 1.5e-7 and 2.0e-9 before the breakaway predictor; when the
 /// fraction was chosen, before the reversal predictor: 0.03 gave 2.0e-7 and 1.9e-9, 0.1 1.1e-6
 /// and 5.4e-9, 0.45 3e-6 and 1e-8).
+/// Measured and not taken: a fraction for each part of the branch (the step's start on the
+/// elastic part or past the breakaway), the same scene, 0.1 s, `examples/planar_probe.rs`
+/// against Radau at 1e-12. Steps and rejected attempts per period, `F_Fx` off by (of `F_C`):
+///
+/// | elastic, plastic | tolerance 1e-6 | 1e-7 | 1e-8 |
+/// |---|---|---|---|
+/// | 0.03, 0.03 (this) | 18.1 + 1.1, 4.1e-7 | 26.2 + 3.0, 2.1e-8 | 41.2 + 3.0, 2.6e-9 |
+/// | 0.4, 0.03 | 14.2 + 2.0, 8.1e-7 | 20.3 + 1.1, 6.0e-8 | 33.2 + 3.0, 4.3e-9 |
+/// | 0.03, 0.1 | 17.1 + 1.0, 1.3e-6 | | 37.3 + 1.1, 7.7e-9 |
+/// | 0.03, 0.4 | 16.1 + 1.0, 2.1e-6 | | 35.2 + 1.1, 3.8e-8 |
+///
+/// A looser elastic part saves a sixth to a quarter of the attempts but raises the error 1.6
+/// to 3 times (at `k_t` = 1e10: 27.1 → 23.1 attempts per period at 1e-6, `F_Fx` 3.4e-8 →
+/// 2.3e-8; 38.1 → 32.1 at 1e-7, 2.1e-10 → 4.1e-8); a looser plastic part buys little and
+/// leaves the tolerance. Neither is cheaper at equal accuracy.
 pub(super) const DUPONT_TOL_FRACTION: f64 = 0.03;
 
 /// Short of a call's end, a step's error in the deformation is weighed by what it leaves: the
