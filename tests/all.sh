@@ -32,9 +32,9 @@ step() {
     stop_ticker
     step_no=$((step_no + 1))
     echo
-    echo "==> [$step_no/9] $* (at $((SECONDS / 60))m$((SECONDS % 60))s)"
+    echo "==> [$step_no/10] $* (at $((SECONDS / 60))m$((SECONDS % 60))s)"
     local n=$step_no
-    (while sleep 60; do echo "    ... step $n/9 still running (at $((SECONDS / 60))m$((SECONDS % 60))s)"; done) &
+    (while sleep 60; do echo "    ... step $n/10 still running (at $((SECONDS / 60))m$((SECONDS % 60))s)"; done) &
     ticker=$!
 }
 
@@ -171,6 +171,12 @@ VIBROFRIC_PORTABLE=1 cargo run --release -- export --platforms all --check
 
 step "cargo test --release"
 cargo test --release
+
+# The developers' documentation (docs/architecture.md sends contributors there): every link
+# resolved, as the public docs and with the private items (about 30 s the first time).
+step "cargo doc: every intra-doc link resolved"
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --quiet
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace --document-private-items --quiet
 
 step "the Windows library under Wine, the ARM Linux library under qemu (tests/cross/test.sh)"
 bash tests/cross/test.sh dist

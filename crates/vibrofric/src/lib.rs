@@ -15,6 +15,10 @@
 //! (`vibrofric-import`), the export-time writers (`vibrofric-docs`) and the command line
 //! (`vibrofric-cli`) are crates of their own: the shared library carries only what an FMU runs.
 #![deny(unsafe_code)]
+// The library's documentation is for its developers and is read with its private items
+// (`cargo doc --no-deps --document-private-items`), where the paths, the solvers and the
+// string link to each other's internals.
+#![allow(rustdoc::private_intra_doc_links)]
 // The C library's exp, ln, pow, sin, cos differ between Linux, Windows and macOS in the last bit;
 // the model calls the `libm` crate's instead (`clippy.toml` forbids the others outside tests).
 #![cfg_attr(test, allow(clippy::disallowed_methods))]

@@ -16,7 +16,8 @@ macro_rules! present {
     }};
 }
 
-/// Declares the parameters: the struct [`Params`] with its `Default`, the id enum [`ParamId`]
+/// Declares the parameters: the struct [`Params`](crate::table::Params) with its `Default`, the id enum
+/// [`ParamId`](crate::table::ParamId)
 /// and every fact of each parameter as a method of it.
 macro_rules! parameters {
     ($(
@@ -137,8 +138,8 @@ macro_rules! parameters {
     };
 }
 
-/// Declares the inputs: the struct [`Inputs`] (their values at one instant) and the id enum
-/// [`InputId`] with every fact of each input.
+/// Declares the inputs: the struct [`Inputs`](crate::table::Inputs) (their values at one instant) and
+/// the id enum [`InputId`](crate::table::InputId) with every fact of each input.
 macro_rules! inputs {
     ($(
         $(#[doc = $doc:literal])*
@@ -214,8 +215,8 @@ macro_rules! inputs {
     };
 }
 
-/// Declares the outputs: the struct [`Outputs`] (everything the contact reports at one instant)
-/// and the id enum [`OutputId`] with every fact of each output.
+/// Declares the outputs: the struct [`Outputs`](crate::table::Outputs) (everything the contact reports
+/// at one instant) and the id enum [`OutputId`](crate::table::OutputId) with every fact of each output.
 macro_rules! outputs {
     ($(
         $(#[doc = $doc:literal])*
