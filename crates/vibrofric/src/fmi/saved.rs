@@ -43,7 +43,8 @@ pub struct FmuState {
 pub struct StringSaved {
     pub values: StringValues,
     pub derivs: Vec<(StringVar, u32, f64)>,
-    /// The simulator's state ([`crate::model::string::StringSimulator::save`]), once it exists.
+    /// The simulator's state ([`crate::model::string::StringSimulator::save`]), once it
+    /// exists.
     pub sim: Option<Vec<f64>>,
 }
 

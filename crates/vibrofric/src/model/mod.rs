@@ -1,12 +1,13 @@
 //! The contact as a simulator: the object the FMU steps, with no knowledge of FMI.
 //!
-//! [`build`](fn@build) turns a [`Config`] into a [`Simulator`] whose arithmetic is specialised at compile
-//! time for the law, the motion and the drive; the support sources are chosen at run time, where
-//! they cost one branch. The files, each one job:
+//! [`build`](fn@build) turns a [`Config`] into a [`Simulator`] whose arithmetic is specialised at
+//! compile time for the law, the motion and the drive; the support sources are chosen at run
+//! time, where they cost one branch. The files, each one job:
 //! - `simulator.rs`: the object-safe [`Simulator`] trait, its errors and work counters;
 //! - `setup.rs`: [`Setup`], the one way from a configuration, parameters and inputs to a
 //!   simulator (used by the FMU instance, the command line, the tests and the examples);
-//! - `build.rs`: [`build`](fn@build), the simulator's type for a configuration, and the checks before;
+//! - `build.rs`: [`build`](fn@build), the simulator's type for a configuration, and the checks
+//!   before;
 //! - `drive.rs`: how the body is moved (force, velocity, spring drive) and its equations;
 //! - `dynamics.rs`: the right-hand side and its Jacobian: deformation rate of the law, body,
 //!   normal load and lift-off, the relative velocity from the sources;

@@ -67,8 +67,8 @@ fn unit<V: Vector>(v: V) -> V {
     unit_of(v, v.norm())
 }
 
-/// [`unit`](fn@unit) of `v` given its norm `n = v.norm()` (one square root where the caller needs both),
-/// the same bits.
+/// [`unit`](fn@unit) of `v` given its norm `n = v.norm()` (one square root where the caller
+/// needs both), the same bits.
 #[inline(always)]
 fn unit_of<V: Vector>(v: V, n: f64) -> V {
     let (v, n) = if n < 1e-290 {

@@ -16,9 +16,8 @@ macro_rules! present {
     }};
 }
 
-/// Declares the parameters: the struct [`Params`](crate::table::Params) with its `Default`, the id enum
-/// [`ParamId`](crate::table::ParamId)
-/// and every fact of each parameter as a method of it.
+/// Declares the parameters: the struct [`Params`](crate::table::Params) with its `Default`, the
+/// id enum [`ParamId`](crate::table::ParamId) and every fact of each parameter as a method of it.
 macro_rules! parameters {
     ($(
         $(#[doc = $doc:literal])*
@@ -138,8 +137,8 @@ macro_rules! parameters {
     };
 }
 
-/// Declares the inputs: the struct [`Inputs`](crate::table::Inputs) (their values at one instant) and
-/// the id enum [`InputId`](crate::table::InputId) with every fact of each input.
+/// Declares the inputs: the struct [`Inputs`](crate::table::Inputs) (their values at one
+/// instant) and the id enum [`InputId`](crate::table::InputId) with every fact of each input.
 macro_rules! inputs {
     ($(
         $(#[doc = $doc:literal])*
@@ -215,8 +214,9 @@ macro_rules! inputs {
     };
 }
 
-/// Declares the outputs: the struct [`Outputs`](crate::table::Outputs) (everything the contact reports
-/// at one instant) and the id enum [`OutputId`](crate::table::OutputId) with every fact of each output.
+/// Declares the outputs: the struct [`Outputs`](crate::table::Outputs) (everything the contact
+/// reports at one instant) and the id enum [`OutputId`](crate::table::OutputId) with every fact
+/// of each output.
 macro_rules! outputs {
     ($(
         $(#[doc = $doc:literal])*

@@ -1,8 +1,8 @@
 //! A string scene's instance: its values by value reference (FMI 2.0: each element its own
 //! value reference `b·1000000 + i`; FMI 3.0: an array's value reference reads and writes all of
 //! its elements), input derivatives and the string's simulator
-//! ([`crate::model::string::StringSimulator`]). The state machine, the experiment, stepping's checks and
-//! saved states are the instance's own (`mod.rs`, `stepping.rs`, `saved_states.rs`).
+//! ([`crate::model::string::StringSimulator`]). The state machine, the experiment, stepping's
+//! checks and saved states are the instance's own (`mod.rs`, `stepping.rs`, `saved_states.rs`).
 //!
 //! Every value of a set is checked (and named with its index, `m[3]`) before any is written.
 //! The string's parameters, the shared law parameters among them, are fixed: set before

@@ -68,7 +68,7 @@ const TOL_FRACTION: f64 = 0.4;
 /// | 0.03, 0.4 | 16.1 + 1.0, 2.1e-6 | | 35.2 + 1.1, 3.8e-8 |
 ///
 /// A looser elastic part saves a sixth to a quarter of the attempts but raises the error 1.6
-/// to 3 times (at `k_t` = 1e10: 27.1 → 23.1 attempts per period at 1e-6, `F_Fx` 3.4e-8 →
+/// to 3 times at 1e8 (at `k_t` = 1e10: 27.1 → 23.1 attempts per period at 1e-6, `F_Fx` 3.4e-8 →
 /// 2.3e-8; 38.1 → 32.1 at 1e-7, 2.1e-10 → 4.1e-8); a looser plastic part buys little and
 /// leaves the tolerance. Neither is cheaper at equal accuracy.
 pub(super) const DUPONT_TOL_FRACTION: f64 = 0.03;

@@ -13,15 +13,15 @@
 //! inside, all of them in the first 1.2 ms, while the body found its slide; from then on
 //! `s·v_r` stays positive (82 steps and 2 rejected per period, held by the error of plain
 //! steps on the plastic part), so a located switch would save those start-up attempts alone.
-//! LuGre's rate has the same form,
-//! `ds/dt = (|v_r|/g)·(q − s)` with `q = g·v_r/|v_r|`, its length `g(v_r)` depending on the relative velocity where Dahl's
-//! `s_ss` is constant: `λ = ∫|v_r|/g dt` and `q` take that `g`, and the force (with its
-//! damping `h_t·ds/dt`) follows from the deformation at each stage as in the general model.
+//! LuGre's rate has the same form, `ds/dt = (|v_r|/g)·(q − s)` with `q = g·v_r/|v_r|`, its
+//! length `g(v_r)` depending on the relative velocity where Dahl's `s_ss` is constant:
+//! `λ = ∫|v_r|/g dt` and `q` take that `g`, and the force (with its damping `h_t·ds/dt`)
+//! follows from the deformation at each stage as in the general model.
 //! A force- or spring-driven body whose motion stays on the x axis (no lateral deformation,
 //! velocity or support motion: LuGre, since Dahl there takes `explicit/`) is integrated in
-//! one dimension, `[s, x, v]` with `∫F_Fx dt` and λ, by the same code ([`steps`](fn@steps), generic in
-//! the vector type and the widths); its lateral components stay 0 as the planar equations keep
-//! them (the results were those of the planar integration to the last bit on
+//! one dimension, `[s, x, v]` with `∫F_Fx dt` and λ, by the same code ([`steps`](fn@steps),
+//! generic in the vector type and the widths); its lateral components stay 0 as the planar
+//! equations keep them (the results were those of the planar integration to the last bit on
 //! VibratingContactLuGre, 0.1 s at tolerances 1e-6 and 1e-8), and the support velocity at
 //! the stages comes from rotations of the harmonic phase as on the 1-D path; so it does at
 //! the stages of a plain step off the axis ([`StageSupport`]).
@@ -199,8 +199,8 @@ const REACH_CUT: f64 = 0.2;
 const BRIDGE: f64 = 1e-3;
 
 /// The tightest tolerance at which an exponential step's deformation error is weighed by what
-/// it leaves (`settled` in `steps.rs`), as a plain step's is. RigTransverse from rest at `k_t` = 1e12,
-/// tolerance 1e-6, 0.1 s: 43.9 steps per period against 49.6 with the exponential steps' own
+/// it leaves (`settled` in `steps.rs`), as a plain step's is. RigTransverse from rest at `k_t` =
+/// 1e12, tolerance 1e-6, 0.1 s: 43.9 steps per period against 49.6 with the exponential steps' own
 /// error, `F_Fx` and `F_Fy` 6.9e-8 and 7.0e-9 of `F_C` from Radau at 1e-11 against 6.9e-8 and
 /// 6.6e-9 (1e-8: 10,294 steps against 12,712 over 30 ms, 5.8e-10 and 5.5e-11 against 6.1e-10
 /// and 4.8e-11); the same steps at 1e8 and on PaperTransverse. At 1e-10 (`k_t` = 1e11) the

@@ -3,7 +3,8 @@
 
 use super::*;
 
-/// The right-hand side of the integrated vector (the state, `∫F_F dt` and λ, [`steps`](fn@steps)).
+/// The right-hand side of the integrated vector (the state, `∫F_F dt` and λ,
+/// [`steps`](fn@steps)).
 pub(super) struct Eqs<
     's,
     'a,

@@ -7,8 +7,8 @@ use super::exponential_step::exponential_step;
 use super::rhs::{relative_velocity, Eqs, Kin, Relax};
 use super::*;
 
-/// What one call of [`steps`](fn@steps) works with: the system, its right-hand side, the manifold's
-/// step where it applies, and the error control's settings.
+/// What one call of [`steps`](fn@steps) works with: the system, its right-hand side, the
+/// manifold's step where it applies, and the error control's settings.
 struct Call<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M: usize> {
     sys: &'s System<'a, V, L, D>,
     eqs: Eqs<'s, 'a, V, L, D, N, M>,
@@ -69,8 +69,8 @@ impl<'s, 'a, V: Vector, L: FrictionLaw, D: DriveKind<V>, const N: usize, const M
     }
 }
 
-/// One attempt of [`steps`](fn@steps): its length and whether it ends the call, its scaled error
-/// (infinite where anything is not finite), its end and the right-hand side there, whether it
+/// One attempt of [`steps`](fn@steps): its length and whether it ends the call, its scaled
+/// error (infinite where anything is not finite), its end and the right-hand side there, whether it
 /// was on the manifold or exponential, the sign change of `v_rx` it crosses, and, where it
 /// ends on a cut, the bridge after it.
 struct Attempt<const M: usize> {
